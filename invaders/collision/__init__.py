@@ -1,0 +1,1 @@
+"""The four-step collision pipeline: reduce, quick test, thorough test, respond."""

@@ -1,0 +1,49 @@
+"""The record the pipeline reads: an id, a kind, an integer box, a mask, and where it was."""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+import pygame
+
+
+class Kind(IntEnum):
+    """What a body is, for the rules table. Values are stable: they appear in reports."""
+
+    CANNON = 1
+    SHOT = 2
+    BOMB = 3
+    ALIEN = 4
+    BUNKER = 5
+    SAUCER = 6
+
+
+class Body:
+    """A collidable thing at integer position (x, y), the top-left of its w x h box.
+
+    `moved_tick` says on which tick (px, py) was last saved: a body that has not moved this
+    tick is where it was at the tick's start, whatever px, py still hold.
+    """
+
+    __slots__ = ("alive", "h", "id", "kind", "mask", "moved_tick", "px", "py", "w", "x", "y")
+
+    def __init__(self, body_id: int, kind: Kind, x: int, y: int, mask: pygame.mask.Mask) -> None:
+        self.id = body_id
+        self.kind = kind
+        self.x = x
+        self.y = y
+        self.px = x
+        self.py = y
+        self.moved_tick = -1
+        self.mask = mask
+        self.w, self.h = mask.get_size()
+        self.alive = True
+
+    def start_of_tick(self, tick: int) -> tuple[int, int]:
+        """Where this body was when `tick` began (for swept tests)."""
+        if self.moved_tick == tick:
+            return self.px, self.py
+        return self.x, self.y
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(id={self.id}, x={self.x}, y={self.y})"

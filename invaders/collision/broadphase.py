@@ -1,0 +1,191 @@
+"""Broad phases: from the groups the rules allow, the candidate pairs, sorted by ids.
+
+Brute force pairs every allowed body with every other (the reference). The uniform grid bins
+each body into the cells its box covers, keeps static bodies resident, re-bins a mover only
+when its cell range changes, and reports a body spanning several cells once. Both return
+the same sorted list whenever their boxes overlap, so contacts never depend on the choice.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Protocol
+
+from invaders.collision.body import Body, Kind
+from invaders.collision.rules import PairRule
+
+Group = tuple[PairRule, Sequence[Body], Sequence[Body]]
+Pair = tuple[Body, Body, PairRule]
+
+
+class Scene(Protocol):
+    """What the pipeline reads from a world (or from a test's hand-made scene)."""
+
+    tick: int
+    dirty: Sequence[Body]  # bodies added, moved or removed since the previous tick's detect
+
+    def bodies(self, kind: Kind) -> Sequence[Body]: ...
+
+
+class BroadPhase(Protocol):
+    name: str
+
+    def pairs(self, scene: Scene, groups: Sequence[Group], swept: frozenset[Kind]) -> list[Pair]:
+        """Candidate pairs (low id first), sorted by (low id, high id)."""
+        ...
+
+
+def _ordered(a: Body, b: Body, rule: PairRule) -> Pair:
+    return (a, b, rule) if a.id < b.id else (b, a, rule)
+
+
+def _pair_key(pair: Pair) -> tuple[int, int]:
+    return pair[0].id, pair[1].id
+
+
+class Brute:
+    """Every allowed pair: the reference the grid must agree with."""
+
+    name = "brute"
+
+    def pairs(self, scene: Scene, groups: Sequence[Group], swept: frozenset[Kind]) -> list[Pair]:
+        out = [_ordered(a, b, rule) for rule, side_a, side_b in groups
+               for a in side_a for b in side_b]
+        out.sort(key=_pair_key)
+        return out
+
+
+class Grid:
+    """Uniform grid, one layer of cells per kind, so a probe only meets kinds it may hit.
+
+    Swept kinds are binned by the union of their boxes at the start and end of the tick. A
+    body that stopped moving keeps its larger range until it next moves: a superset, which
+    is safe, and saves re-binning every resting bomb every tick.
+    """
+
+    name = "grid"
+    STRIDE = 1 << 16  # cell key = cy * STRIDE + cx; coordinates stay far inside +-2**20 px
+
+    def __init__(self, cell: int = 16) -> None:
+        if cell < 1:
+            raise ValueError("grid cell size must be at least 1 px")
+        self.cell = cell
+        self.layers: dict[Kind, dict[int, list[Body]]] = {kind: {} for kind in Kind}
+        self.ranges: dict[int, tuple[int, int, int, int]] = {}
+        self._scene: Scene | None = None
+        self._tick = -2
+        self.rebins = 0  # how many times a body changed cells (for the study and tests)
+
+    # --- keeping the cells in step with the scene -------------------------------------------
+    def sync(self, scene: Scene, swept: frozenset[Kind]) -> None:
+        """Apply the scene's dirty list, or rebuild if this is not the next tick we saw."""
+        if scene is not self._scene or scene.tick not in (self._tick, self._tick + 1):
+            self._rebuild(scene, swept)
+        else:
+            for body in scene.dirty:
+                self._update(body, body.kind in swept, scene.tick)
+        self._scene = scene
+        self._tick = scene.tick
+
+    def _rebuild(self, scene: Scene, swept: frozenset[Kind]) -> None:
+        self.layers = {kind: {} for kind in Kind}
+        self.ranges = {}
+        for kind in Kind:
+            is_swept = kind in swept
+            for body in scene.bodies(kind):
+                self._update(body, is_swept, scene.tick)
+
+    def cell_range(self, body: Body, is_swept: bool, tick: int) -> tuple[int, int, int, int]:
+        """Cells (cx0, cy0, cx1, cy1) covered by the body's box, swept over the tick if asked."""
+        c = self.cell
+        x0, y0, x1, y1 = body.x, body.y, body.x + body.w, body.y + body.h
+        if is_swept and body.moved_tick == tick:
+            px, py = body.px, body.py
+            x0, y0 = min(x0, px), min(y0, py)
+            x1, y1 = max(x1, px + body.w), max(y1, py + body.h)
+        return x0 // c, y0 // c, (x1 - 1) // c, (y1 - 1) // c
+
+    def _update(self, body: Body, is_swept: bool, tick: int) -> None:
+        old = self.ranges.get(body.id)
+        if not body.alive:
+            if old is not None:
+                self._unbin(body, old)
+                del self.ranges[body.id]
+            return
+        new = self.cell_range(body, is_swept, tick)
+        if new == old:
+            return
+        if old is not None:
+            self._unbin(body, old)
+        self._bin(body, new)
+        self.ranges[body.id] = new
+        self.rebins += 1
+
+    def _bin(self, body: Body, r: tuple[int, int, int, int]) -> None:
+        layer = self.layers[body.kind]
+        stride = self.STRIDE
+        for cy in range(r[1], r[3] + 1):
+            for cx in range(r[0], r[2] + 1):
+                key = cy * stride + cx
+                cell = layer.get(key)
+                if cell is None:
+                    layer[key] = [body]
+                else:
+                    cell.append(body)
+
+    def _unbin(self, body: Body, r: tuple[int, int, int, int]) -> None:
+        layer = self.layers[body.kind]
+        stride = self.STRIDE
+        for cy in range(r[1], r[3] + 1):
+            for cx in range(r[0], r[2] + 1):
+                key = cy * stride + cx
+                cell = layer[key]
+                cell.remove(body)
+                if not cell:
+                    del layer[key]
+
+    # --- queries ---------------------------------------------------------------------------
+    def pairs(self, scene: Scene, groups: Sequence[Group], swept: frozenset[Kind]) -> list[Pair]:
+        self.sync(scene, swept)
+        out: list[Pair] = []
+        stride = self.STRIDE
+        tick = scene.tick
+        for rule, side_a, side_b in groups:
+            # Probe with the smaller side; look only in the other kind's layer.
+            if len(side_a) <= len(side_b):
+                probes, layer, others = side_a, self.layers[rule.b], side_b
+            else:
+                probes, layer, others = side_b, self.layers[rule.a], side_a
+            if not layer:
+                continue
+            allowed = None if rule.zone is None else {b.id for b in others}
+            probe_swept = probes[0].kind in swept
+            for probe in probes:
+                cx0, cy0, cx1, cy1 = self.cell_range(probe, probe_swept, tick)
+                if cx0 == cx1 and cy0 == cy1:
+                    for other in layer.get(cy0 * stride + cx0, ()):
+                        if allowed is None or other.id in allowed:
+                            out.append(_ordered(probe, other, rule))
+                    continue
+                seen: set[int] = set()
+                for cy in range(cy0, cy1 + 1):
+                    for cx in range(cx0, cx1 + 1):
+                        for other in layer.get(cy * stride + cx, ()):
+                            oid = other.id
+                            if oid not in seen and (allowed is None or oid in allowed):
+                                seen.add(oid)
+                                out.append(_ordered(probe, other, rule))
+        out.sort(key=_pair_key)
+        return out
+
+
+BROADPHASES = ("grid", "brute")
+
+
+def make_broadphase(name: str, cell: int = 16) -> BroadPhase:
+    """A broad phase by its command-line name."""
+    if name == "grid":
+        return Grid(cell)
+    if name == "brute":
+        return Brute()
+    raise ValueError(f"unknown broad phase {name!r} (choose from {', '.join(BROADPHASES)})")

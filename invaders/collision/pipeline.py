@@ -1,0 +1,133 @@
+"""detect(scene) -> (contacts, stats): reduce, quick test, thorough test. Mutates nothing.
+
+Step 1 keeps only pairs of kinds the rules table lists (inside their zones) and asks the
+broad phase for candidates; step 2 tests boxes (swept boxes for swept entries); step 3 tests
+pixels where the entry says the shape is not its box, or walks the relative motion for swept
+entries. Response (step 4) is someone else's job: see response.py.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from invaders.collision import predicates
+from invaders.collision.body import Body, Kind
+from invaders.collision.broadphase import BroadPhase, Group, Scene, make_broadphase
+from invaders.collision.rules import RULES, Motion, PairRule, Shape, swept_kinds
+from invaders.collision.stats import CollisionStats, Contact
+
+KINDS = tuple(Kind)
+
+
+def _in_zone(body: Body, zone: tuple[int, int, int, int]) -> bool:
+    zx, zy, zw, zh = zone
+    return predicates.rects_overlap(body.x, body.y, body.w, body.h, zx, zy, zw, zh)
+
+
+def _shape_mask(body: Body, shape: Shape):  # -> pygame.mask.Mask
+    return body.mask if shape is Shape.MASK else predicates.solid_mask(body.w, body.h)
+
+
+class Detector:
+    """A rules table and a broad phase; holds only the broad phase's own bookkeeping."""
+
+    def __init__(self, broadphase: BroadPhase, rules: tuple[PairRule, ...] = RULES) -> None:
+        self.broadphase = broadphase
+        self.rules = rules
+        self.swept = swept_kinds(rules)
+
+    def detect(self, scene: Scene) -> tuple[list[Contact], CollisionStats]:
+        bodies = scene.bodies
+        n = 0
+        for kind in KINDS:
+            n += len(bodies(kind))
+        groups: list[Group] = []
+        allowed = 0
+        for rule in self.rules:
+            side_a: Sequence[Body] = bodies(rule.a)
+            side_b: Sequence[Body] = bodies(rule.b)
+            if not side_a or not side_b:
+                continue
+            if rule.zone is not None:
+                side_a = [body for body in side_a if _in_zone(body, rule.zone)]
+                side_b = [body for body in side_b if _in_zone(body, rule.zone)]
+                if not side_a or not side_b:
+                    continue
+            allowed += len(side_a) * len(side_b)
+            groups.append((rule, side_a, side_b))
+        pairs = self.broadphase.pairs(scene, groups, self.swept) if groups else []
+
+        tick = scene.tick
+        contacts: list[Contact] = []
+        rect_tests = rect_hits = mask_tests = mask_hits = swept_tests = 0
+        for a, b, rule in pairs:
+            rect_tests += 1
+            if rule.motion is Motion.SWEPT:
+                box_hit, contact = self._swept(a, b, rule, tick)
+                if box_hit:
+                    rect_hits += 1
+                    swept_tests += 1
+                    if contact is not None:
+                        contacts.append(contact)
+                continue
+            if not (a.x < b.x + b.w and b.x < a.x + a.w and a.y < b.y + b.h and b.y < a.y + a.h):
+                continue
+            rect_hits += 1
+            if rule.needs_pixels:
+                mask_tests += 1
+                point = predicates.masks_overlap(
+                    _shape_mask(a, rule.shape_of(a.kind)), a.x, a.y,
+                    _shape_mask(b, rule.shape_of(b.kind)), b.x, b.y)
+                if point is None:
+                    continue
+                mask_hits += 1
+            else:
+                point = (max(a.x, b.x), max(a.y, b.y))
+            contacts.append(Contact(tick, a.id, b.id, a.kind, b.kind, a.x, a.y, b.x, b.y, *point))
+        stats = CollisionStats(n, n * (n - 1) // 2, allowed, len(pairs), rect_tests, rect_hits,
+                               mask_tests, mask_hits, swept_tests, len(contacts))
+        return contacts, stats
+
+    def _swept(self, a: Body, b: Body, rule: PairRule, tick: int) -> tuple[bool, Contact | None]:
+        """Swept box test, then the pixel walk: (did the boxes meet, the contact or None)."""
+        apx, apy = a.start_of_tick(tick)
+        bpx, bpy = b.start_of_tick(tick)
+        ox, oy = bpx - apx, bpy - apy  # b relative to a at the tick's start
+        dx = (b.x - bpx) - (a.x - apx)
+        dy = (b.y - bpy) - (a.y - apy)
+        if not predicates.swept_box_overlap(a.w, a.h, b.w, b.h, ox, oy, dx, dy):
+            return False, None
+        a_mask = _shape_mask(a, rule.shape_of(a.kind))
+        b_mask = _shape_mask(b, rule.shape_of(b.kind))
+        if b.kind in self.swept or a.kind not in self.swept:
+            found = predicates.first_swept_contact(a_mask, b_mask, ox, oy, dx, dy)
+            if found is None:
+                return True, None
+            step, steps, (hx, hy) = found
+            ax, ay = _at(apx, apy, a.x, a.y, step, steps)
+            sx, sy = predicates.substeps(dx, dy)[step]
+            bx, by = ax + ox + sx, ay + oy + sy
+            return True, Contact(tick, a.id, b.id, a.kind, b.kind, ax, ay, bx, by,
+                                 ax + hx, ay + hy)
+        # b never moves (a shield): sweep a against it instead, so only shared masks are swept.
+        found = predicates.first_swept_contact(b_mask, a_mask, -ox, -oy, -dx, -dy)
+        if found is None:
+            return True, None
+        step, steps, (hx, hy) = found
+        bx, by = _at(bpx, bpy, b.x, b.y, step, steps)
+        sx, sy = predicates.substeps(-dx, -dy)[step]
+        ax, ay = bx - ox + sx, by - oy + sy
+        return True, Contact(tick, a.id, b.id, a.kind, b.kind, ax, ay, bx, by, bx + hx, by + hy)
+
+
+def _at(x0: int, y0: int, x1: int, y1: int, step: int, steps: int) -> tuple[int, int]:
+    """A body's own position `step` substeps of `steps` into the tick."""
+    if steps == 0:
+        return x1, y1
+    return (x0 + predicates.round_div((x1 - x0) * step, steps),
+            y0 + predicates.round_div((y1 - y0) * step, steps))
+
+
+def make_detector(broadphase: str = "grid", cell: int = 16) -> Detector:
+    """A detector with the default rules and the named broad phase."""
+    return Detector(make_broadphase(broadphase, cell))

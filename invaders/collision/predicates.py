@@ -1,0 +1,112 @@
+"""Rect, mask and swept predicates: the one place that computes mask offsets.
+
+pygame's `Mask.overlap(other, offset)` places `other`'s top-left corner at `offset` from the
+caller's top-left and returns the first overlapping pixel in the caller's coordinates, or None.
+Every pixel test here goes through `mask_offset`, so the convention is pinned in one spot
+(`tests/test_predicates.py` pins it against pygame itself).
+"""
+
+from __future__ import annotations
+
+from functools import cache
+
+import pygame
+
+Point = tuple[int, int]
+
+
+def rects_overlap(ax: int, ay: int, aw: int, ah: int, bx: int, by: int, bw: int, bh: int) -> bool:
+    """Half-open integer boxes: touching edges do not overlap, one shared pixel does."""
+    return ax < bx + bw and bx < ax + aw and ay < by + bh and by < ay + ah
+
+
+def mask_offset(ax: int, ay: int, bx: int, by: int) -> Point:
+    """Offset of b's top-left from a's, as `a_mask.overlap(b_mask, offset)` wants it."""
+    return bx - ax, by - ay
+
+
+@cache
+def solid_mask(w: int, h: int) -> pygame.mask.Mask:
+    """A filled w x h mask, for a side whose box is its whole shape."""
+    return pygame.mask.Mask((w, h), fill=True)
+
+
+def masks_overlap(
+    a_mask: pygame.mask.Mask, ax: int, ay: int, b_mask: pygame.mask.Mask, bx: int, by: int
+) -> Point | None:
+    """A screen pixel both masks light, placed at (ax, ay) and (bx, by), or None."""
+    hit = a_mask.overlap(b_mask, mask_offset(ax, ay, bx, by))
+    if hit is None:
+        return None
+    return ax + hit[0], ay + hit[1]
+
+
+def substeps(dx: int, dy: int) -> list[Point]:
+    """Integer points from (0, 0) to (dx, dy), one pixel apart along the major axis.
+
+    This is the motion model of every swept test and of the oracle: between consecutive
+    points nothing moves more than one pixel on either axis.
+    """
+    n = max(abs(dx), abs(dy))
+    if n == 0:
+        return [(0, 0)]
+    return [(round_div(i * dx, n), round_div(i * dy, n)) for i in range(n + 1)]
+
+
+def round_div(num: int, den: int) -> int:
+    """num / den rounded half away from zero, in integers (den > 0)."""
+    if num >= 0:
+        return (2 * num + den) // (2 * den)
+    return -((-2 * num + den) // (2 * den))
+
+
+_swept_cache: dict[tuple[int, int, int], tuple[pygame.mask.Mask, pygame.mask.Mask]] = {}
+
+
+def swept_mask(mask: pygame.mask.Mask, dx: int, dy: int) -> pygame.mask.Mask:
+    """The union of `mask` placed at every substep of (dx, dy), with its corner at
+    (min(0, dx), min(0, dy)). Cached: only ever pass shared (never-eroded) masks."""
+    key = (id(mask), dx, dy)
+    hit = _swept_cache.get(key)
+    if hit is not None and hit[0] is mask:
+        return hit[1]
+    w, h = mask.get_size()
+    ox, oy = min(0, dx), min(0, dy)
+    swept = pygame.mask.Mask((w + abs(dx), h + abs(dy)))
+    for sx, sy in substeps(dx, dy):
+        swept.draw(mask, (sx - ox, sy - oy))
+    if len(_swept_cache) > 4096:
+        _swept_cache.clear()
+    _swept_cache[key] = (mask, swept)
+    return swept
+
+
+def swept_box_overlap(
+    fixed_w: int, fixed_h: int, moving_w: int, moving_h: int, ox: int, oy: int, dx: int, dy: int
+) -> bool:
+    """Quick test: does the box swept from offset (ox, oy) by (dx, dy) meet the fixed box?"""
+    return rects_overlap(0, 0, fixed_w, fixed_h, ox + min(0, dx), oy + min(0, dy),
+                         moving_w + abs(dx), moving_h + abs(dy))
+
+
+def first_swept_contact(
+    fixed: pygame.mask.Mask, moving: pygame.mask.Mask, ox: int, oy: int, dx: int, dy: int
+) -> tuple[int, int, Point] | None:
+    """The first substep at which `moving`, starting at offset (ox, oy) from `fixed` and
+    moving (dx, dy) relative to it, lights a pixel `fixed` lights.
+
+    Returns (step, steps, pixel in fixed's coordinates), or None. One test of the swept
+    mask answers most calls; only a hit walks the substeps to find the first.
+    """
+    steps = max(abs(dx), abs(dy))
+    if steps == 0:
+        hit = fixed.overlap(moving, (ox, oy))
+        return None if hit is None else (0, 0, hit)
+    swept = swept_mask(moving, dx, dy)
+    if fixed.overlap(swept, (ox + min(0, dx), oy + min(0, dy))) is None:
+        return None
+    for i, (sx, sy) in enumerate(substeps(dx, dy)):
+        hit = fixed.overlap(moving, (ox + sx, oy + sy))
+        if hit is not None:
+            return i, steps, hit
+    raise AssertionError("the swept mask overlapped but no substep did")
