@@ -1,0 +1,138 @@
+"""Command line: parse, call, report. Exit codes: 0 ok, 1 a check failed, 2 bad input or usage."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from typing import NoReturn
+
+from invaders import __version__
+from invaders.collision.broadphase import BROADPHASES
+
+MAX_TICKS = 100_000_000
+
+
+class UsageError(Exception):
+    """Bad input from the user: reported as one line, exit 2."""
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line naming the problem, not a usage block."""
+
+    def error(self, message: str) -> NoReturn:
+        raise UsageError(message)
+
+
+def _int_in(name: str, low: int, high: int):
+    def parse(text: str) -> int:
+        try:
+            value = int(text, 0)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{name} must be a whole number, not {text!r}") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(
+                f"{name} must be between {low} and {high}, not {value}")
+        return value
+
+    return parse
+
+
+def build_parser() -> Parser:
+    parser = Parser(prog="invaders", description=__doc__)
+    parser.add_argument("--version", action="version", version=f"invaders {__version__}")
+    sub = parser.add_subparsers(dest="command", parser_class=Parser)
+
+    play = sub.add_parser("play", help="play in a window")
+    play.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0)
+    play.add_argument("--scale", type=_int_in("--scale", 1, 8), default=3)
+    play.add_argument("--broadphase", choices=BROADPHASES, default="grid")
+    play.add_argument("--screenshot", metavar="FILE",
+                      help="run headless for --ticks with the autopilot, save the window as PNG")
+    play.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=600)
+    play.add_argument("--overlay", action="store_true", help="start with the debug overlay on")
+
+    run = sub.add_parser("run", help="run headless and print a summary and the state hash")
+    run.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=3600)
+    run.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0)
+    run.add_argument("--autopilot", action="store_true", help="let the built-in player play")
+    run.add_argument("--broadphase", choices=BROADPHASES, default="grid")
+    run.add_argument("--cell", type=_int_in("--cell", 1, 1024), default=16,
+                     help="grid cell size in px")
+    run.add_argument("--report", metavar="FILE", help="per-tick counters, .csv or .jsonl")
+
+    bench = sub.add_parser("bench", help="time the pipeline against references, as ratios")
+    bench.add_argument("--ticks", type=_int_in("--ticks", 60, MAX_TICKS), default=3600)
+    bench.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=7)
+    bench.add_argument("--repeat", type=_int_in("--repeat", 1, 100), default=3)
+    return parser
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from invaders.headless import Idle, run, use_dummy_drivers
+
+    use_dummy_drivers()
+    from invaders.autopilot import Autopilot
+    from invaders.collision.pipeline import make_detector
+    from invaders.report import report_format
+    from invaders.sim.world import World
+    from invaders.summary import summary_lines
+
+    if args.report is not None:
+        try:
+            report_format(args.report)
+        except ValueError as err:
+            raise UsageError(str(err)) from None
+    world = World(seed=args.seed, detector=make_detector(args.broadphase, args.cell))
+    source = Autopilot(args.seed) if args.autopilot else Idle()
+    try:
+        result = run(world, source, args.ticks, args.report)
+    except OSError as err:
+        raise UsageError(f"cannot write report {args.report!r}: {err.strerror}") from None
+    name = "autopilot" if args.autopilot else "none"
+    for line in summary_lines(result, args.seed, args.broadphase, name):
+        print(line)
+    print(world.state_hash())
+    return 0
+
+
+def cmd_play(args: argparse.Namespace) -> int:
+    from invaders.play import play, screenshot
+
+    if args.screenshot:
+        return screenshot(args.screenshot, seed=args.seed, ticks=args.ticks, scale=args.scale,
+                          overlay=args.overlay, broadphase=args.broadphase)
+    return play(seed=args.seed, scale=args.scale, broadphase=args.broadphase,
+                overlay=args.overlay)
+
+
+def cmd_bench(args: argparse.Namespace) -> int:
+    from invaders.headless import use_dummy_drivers
+
+    use_dummy_drivers()
+    from invaders.bench import bench
+
+    return bench(ticks=args.ticks, seed=args.seed, repeat=args.repeat)
+
+
+COMMANDS = {"run": cmd_run, "play": cmd_play, "bench": cmd_bench}
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    try:
+        args = build_parser().parse_args(argv)
+        if args.command is None:
+            args = build_parser().parse_args(["play", *argv])
+        return COMMANDS[args.command](args)
+    except UsageError as err:
+        print(f"invaders: error: {err}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("invaders: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

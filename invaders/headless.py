@@ -1,0 +1,59 @@
+"""Headless runs: no window, no clock; a world, an input source, and what the run measured."""
+
+from __future__ import annotations
+
+import os
+from collections import Counter
+from dataclasses import dataclass, field
+from typing import Protocol
+
+from invaders.atomic import atomic_writer
+from invaders.report import CounterTable, ReportWriter, report_format
+from invaders.sim.world import World
+
+
+def use_dummy_drivers() -> None:
+    """Select SDL's dummy video and audio drivers, so nothing needs a display or a sound card."""
+    os.environ["SDL_VIDEODRIVER"] = "dummy"
+    os.environ["SDL_AUDIODRIVER"] = "dummy"
+
+
+class InputSource(Protocol):
+    def actions(self, world: World) -> int: ...
+
+
+class Idle:
+    """No one at the controls."""
+
+    def actions(self, world: World) -> int:
+        return 0
+
+
+@dataclass
+class RunResult:
+    world: World
+    table: CounterTable
+    events: Counter = field(default_factory=Counter)
+
+
+def run(world: World, source: InputSource, ticks: int, report: str | None = None) -> RunResult:
+    """Step `world` `ticks` times with `source`'s input; optionally write the per-tick report."""
+    table = CounterTable(ticks)
+    events: Counter = Counter()
+    if report is None:
+        for _ in range(ticks):
+            result = world.step(source.actions(world))
+            table.add(result.stats)
+            if result.events:
+                events.update(e.name for e in result.events)
+        return RunResult(world, table, events)
+    fmt = report_format(report)
+    with atomic_writer(report) as handle:
+        writer = ReportWriter(handle, fmt)
+        for _ in range(ticks):
+            result = world.step(source.actions(world))
+            table.add(result.stats)
+            names = tuple(e.name for e in result.events)
+            events.update(names)
+            writer.row(result.tick, result.stats, names)
+    return RunResult(world, table, events)
