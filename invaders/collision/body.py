@@ -18,6 +18,10 @@ class Kind(IntEnum):
     SAUCER = 6
 
 
+# Kinds whose masks erode: never swept or cached, the other side of a pair is swept instead.
+ERODIBLE = frozenset({Kind.BUNKER})
+
+
 class Body:
     """A collidable thing at integer position (x, y), the top-left of its w x h box.
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from invaders.collision import predicates
-from invaders.collision.body import Body, Kind
+from invaders.collision.body import ERODIBLE, Body, Kind
 from invaders.collision.broadphase import BroadPhase, Group, Scene, make_broadphase
 from invaders.collision.rules import RULES, Motion, PairRule, Shape, swept_kinds
 from invaders.collision.stats import CollisionStats, Contact
@@ -99,7 +99,7 @@ class Detector:
             return False, None
         a_mask = _shape_mask(a, rule.shape_of(a.kind))
         b_mask = _shape_mask(b, rule.shape_of(b.kind))
-        if b.kind in self.swept or a.kind not in self.swept:
+        if b.kind not in ERODIBLE:
             found = predicates.first_swept_contact(a_mask, b_mask, ox, oy, dx, dy)
             if found is None:
                 return True, None
@@ -109,7 +109,7 @@ class Detector:
             bx, by = ax + ox + sx, ay + oy + sy
             return True, Contact(tick, a.id, b.id, a.kind, b.kind, ax, ay, bx, by,
                                  ax + hx, ay + hy)
-        # b never moves (a shield): sweep a against it instead, so only shared masks are swept.
+        # b erodes (a shield): sweep a against it instead, so only shared masks are swept.
         found = predicates.first_swept_contact(b_mask, a_mask, -ox, -oy, -dx, -dy)
         if found is None:
             return True, None

@@ -1,0 +1,202 @@
+"""Rules of the 1978 game, each checked in a running world."""
+
+from __future__ import annotations
+
+import itertools
+
+from invaders.config import DEFAULT_CONFIG
+from invaders.sim import bombs
+from invaders.sim.actions import Action
+from invaders.sim.entities import Bomb, BombType, CannonState, Shot
+from invaders.sim.events import Event
+from invaders.sim.saucer import score_for
+from invaders.sim.world import Phase, World
+from tests.helpers import active_world, step_until
+
+G = DEFAULT_CONFIG.geometry
+
+
+def _ticks_between_rack_steps(world: World, steps: int) -> list[int]:
+    gaps, last, ref = [], world.tick, (world.rack.ref_x, world.rack.ref_top)
+    while len(gaps) < steps:
+        world.step(0)
+        now = (world.rack.ref_x, world.rack.ref_top)
+        if now != ref:
+            gaps.append(world.tick - last)
+            last, ref = world.tick, now
+    return gaps
+
+
+def _quiet(world: World) -> None:
+    """Keep bombs from firing, so the rack's own timing is all that moves."""
+    world.alien_fire_timer = 10**9
+
+
+def test_the_rack_takes_n_ticks_per_step_for_n_live_aliens():
+    world = active_world()
+    _quiet(world)
+    _ticks_between_rack_steps(world, 1)  # align to a step boundary
+    assert _ticks_between_rack_steps(world, 3) == [55, 55, 55]
+    for alien in world.rack.live_aliens()[::3]:  # kill 19, leaving 36
+        world.rack.kill(alien, world)
+    _ticks_between_rack_steps(world, 1)
+    assert world.rack.live == 36
+    assert _ticks_between_rack_steps(world, 3) == [36, 36, 36]
+
+
+def test_the_rack_steps_two_pixels_and_drops_eight_at_the_edge():
+    world = active_world()
+    _quiet(world)
+    xs, tops = [world.rack.ref_x], [world.rack.ref_top]
+    for _ in range(55 * 12):
+        world.step(0)
+        if world.rack.ref_x != xs[-1]:
+            xs.append(world.rack.ref_x)
+            tops.append(world.rack.ref_top)
+    steps = [b - a for a, b in itertools.pairwise(xs)]
+    assert steps[:8] == [2] * 8  # rightmost lit column 197 + 16 reaches 213
+    assert steps[8] == -2 and tops[9] == tops[8] + 8  # drop and step back together
+    assert tops[:9] == [128] * 9
+
+
+def test_an_invasion_ends_the_game_with_ships_left():
+    world = active_world()
+    _quiet(world)
+    world.rack.ref_top = G.invasion_top  # the next draw lands in the cannon's rows
+    report = step_until(world, lambda r: Event.GAME_OVER in r.events, limit=60)
+    assert Event.INVASION in report.events
+    assert world.phase is Phase.GAME_OVER
+    assert world.ships == 3
+
+
+def test_the_cannon_moves_one_pixel_a_tick_within_its_limits():
+    world = active_world()
+    _quiet(world)
+    x0 = world.cannon.x
+    for _ in range(5):
+        world.step(Action.RIGHT)
+    assert world.cannon.x == x0 + 5
+    for _ in range(50):
+        world.step(Action.LEFT)
+    assert world.cannon.x == G.cannon_min_x
+    for _ in range(300):
+        world.step(Action.RIGHT)
+    assert world.cannon.x == G.cannon_max_x
+
+
+def test_fire_needs_a_new_press_and_only_one_shot_flies():
+    world = active_world()
+    _quiet(world)
+    report = world.step(Action.FIRE)
+    assert Event.SHOT_FIRED in report.events
+    assert world.shot is not None and world.shot.x == world.cannon.x + 8
+    assert world.shot.y == G.shot_spawn_top
+    held = [world.step(Action.FIRE) for _ in range(80)]  # held down: never fires again
+    assert not any(Event.SHOT_FIRED in r.events for r in held)
+    step_until(world, lambda r: world.shot is None and not world.shot_bursting)
+    world.step(0)
+    assert Event.SHOT_FIRED in world.step(Action.FIRE).events
+
+
+def test_the_saucer_scores_300_for_the_eighth_shot():
+    assert score_for(DEFAULT_CONFIG, 8) == 300
+    assert score_for(DEFAULT_CONFIG, 23) == 300
+    assert score_for(DEFAULT_CONFIG, 1) == 50
+    world = active_world()
+    _quiet(world)
+    world.shots_removed = 7  # seven shots gone this wave; the next one is the eighth
+    world.saucer.due = True
+    world.saucer.from_left = False
+    step_until(world, lambda r: Event.SAUCER_LAUNCHED in r.events, limit=10)
+    ship = world.saucer.saucer
+    shot = Shot(world.new_id(), ship.x + 12, G.saucer_top + 12)  # just below, in its path
+    world.shot = shot
+    world.add(shot)
+    hit = step_until(world, lambda r: Event.SAUCER_HIT in r.events or world.shot is None)
+    assert Event.SAUCER_HIT in hit.events
+    assert world.shots_removed == 8
+    score = world.score
+    step_until(world, lambda r: Event.SAUCER_SCORED in r.events, limit=60)
+    assert world.score - score == 300
+
+
+def test_the_reload_rule_waits_for_other_bombs_to_make_enough_steps():
+    assert DEFAULT_CONFIG.reload_steps_for(0) == 48
+    assert DEFAULT_CONFIG.reload_steps_for(290) == 48
+    assert DEFAULT_CONFIG.reload_steps_for(300) == 16
+    assert DEFAULT_CONFIG.reload_steps_for(1100) == 11
+    assert DEFAULT_CONFIG.reload_steps_for(2100) == 8
+    assert DEFAULT_CONFIG.reload_steps_for(3100) == 7
+    slots = bombs.new_slots()
+    rolling, plunger, _squiggly = slots
+    assert bombs.reload_ready(slots, plunger, 48)  # nothing else in flight
+    rolling.bomb = Bomb(1, BombType.ROLLING, 0, 0)
+    rolling.steps = 48
+    assert not bombs.reload_ready(slots, plunger, 48)  # must be *more* than R
+    rolling.steps = 49
+    assert bombs.reload_ready(slots, plunger, 48)
+    rolling.bomb, rolling.burst, rolling.steps = None, 2, 3  # bursting still counts
+    assert not bombs.reload_ready(slots, plunger, 48)
+    assert bombs.reload_ready(slots, rolling, 48)  # a type never waits for itself
+
+
+def test_in_a_game_no_bomb_fires_before_the_others_made_r_steps():
+    world = active_world(seed=5)
+    for _ in range(3000):
+        before = [(s.busy, s.steps) for s in world.slots]
+        report = world.step(0)
+        if Event.BOMB_FIRED in report.events:
+            fired = [i for i, s in enumerate(world.slots) if s.bomb and s.steps == 0]
+            need = DEFAULT_CONFIG.reload_steps_for(world.score)
+            for i, (busy, steps) in enumerate(before):
+                if i not in fired and busy:
+                    assert steps > need
+        if world.phase is not Phase.PLAYING or world.cannon.state is not CannonState.ACTIVE:
+            break
+
+
+def test_one_extra_ship_at_1500_once_per_game():
+    world = active_world()
+    world.add_score(1490)
+    assert world.ships == 3
+    world.add_score(10)
+    assert world.ships == 4
+    world.add_score(1500)
+    assert world.ships == 4
+
+
+def test_bombs_come_from_the_lowest_live_alien_of_the_plunger_column():
+    world = active_world()
+    slot = world.slots[BombType.PLUNGER]
+    report = step_until(world, lambda r: slot.bomb is not None, limit=400)
+    assert Event.BOMB_FIRED in report.events
+    assert slot.table_index == 1  # the first entry of the cycle was used
+    shooter = world.rack.lowest_in_column(DEFAULT_CONFIG.rules.plunger_columns[0] - 1)
+    assert (slot.bomb.x, slot.bomb.y) == (shooter.x + 7, shooter.top + 10)
+
+
+def test_a_cleared_wave_starts_the_next_lower_with_fresh_shields():
+    world = active_world()
+    _quiet(world)
+    world.bunkers[0].mask.clear()
+    for alien in world.rack.live_aliens()[1:]:
+        world.rack.kill(alien, world)
+    world.kill_alien(world.rack.live_aliens()[0])
+    step_until(world, lambda r: Event.WAVE_STARTED in r.events, limit=200)
+    assert world.wave == 2
+    assert world.rack.ref_top == DEFAULT_CONFIG.start_top(2) == 152
+    assert world.rack.live == 55
+    assert world.bunkers[0].mask.count() == world.bunkers[1].mask.count() > 0
+    assert world.cannon.x == G.cannon_min_x
+
+
+def test_losing_the_last_ship_ends_the_game_and_start_begins_a_new_one():
+    world = active_world()
+    world.ships = 1
+    world.kill_cannon()
+    report = step_until(world, lambda r: Event.GAME_OVER in r.events, limit=100)
+    assert Event.SHIP_LOST in report.events
+    assert world.phase is Phase.GAME_OVER
+    world.score = 120
+    step_until(world, lambda r: Event.NEW_GAME in r.events, actions=Action.START, limit=300)
+    assert world.score == 0 and world.ships == 3 and world.wave == 1 and world.games == 2

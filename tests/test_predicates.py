@@ -1,0 +1,71 @@
+"""Learning tests that pin pygame's overlap convention, and our one-pixel boundaries."""
+
+from __future__ import annotations
+
+import itertools
+
+from invaders.collision import predicates
+from tests.helpers import mask
+
+
+def test_pygame_overlap_offset_is_the_other_corner_relative_to_self():
+    # self has one pixel at (2, 1); other has one pixel at (0, 0).
+    me = mask("....", "..#.", "....")
+    other = mask("#.", "..")
+    assert me.overlap(other, (2, 1)) == (2, 1)  # other's corner placed at me's (2, 1)
+    assert me.overlap(other, (1, 1)) is None
+    assert me.overlap(other, (2, 0)) is None
+    # The answer is in self's coordinates, even when other sits up and left.
+    other2 = mask("..", ".#")  # lit at (1, 1)
+    assert me.overlap(other2, (1, 0)) == (2, 1)
+
+
+def test_mask_offset_is_b_minus_a():
+    assert predicates.mask_offset(10, 20, 13, 18) == (3, -2)
+
+
+def test_rects_touching_do_not_overlap_one_shared_pixel_does():
+    # a covers x 0..3; b starting at x=4 touches, at x=3 shares column 3.
+    assert not predicates.rects_overlap(0, 0, 4, 4, 4, 0, 4, 4)
+    assert predicates.rects_overlap(0, 0, 4, 4, 3, 0, 4, 4)
+    assert not predicates.rects_overlap(0, 0, 4, 4, 0, 4, 4, 4)
+    assert predicates.rects_overlap(0, 0, 4, 4, 0, 3, 4, 4)
+    assert predicates.rects_overlap(0, 0, 4, 4, 3, 3, 1, 1)  # the corner pixel alone
+
+
+def test_masks_touching_versus_one_pixel_overlap():
+    left = mask("..#", ".##", "###")  # lit right edge at x=2
+    right = mask("#..", "##.", "###")  # lit left edge at x=0
+    # Placed side by side with no gap: edges touch, no shared pixel.
+    assert predicates.masks_overlap(left, 0, 0, right, 3, 0) is None
+    # One column closer: exactly the column x=2 is shared.
+    assert predicates.masks_overlap(left, 0, 0, right, 2, 0) == (2, 0)
+    # Boxes overlapping while lit pixels do not: the empty corners.
+    dot = mask("#..", "...", "...")
+    assert predicates.masks_overlap(left, 0, 0, dot, 1, 0) is None
+    assert predicates.masks_overlap(left, 0, 0, dot, 1, 1) == (1, 1)
+
+
+def test_substeps_are_one_pixel_apart_and_include_both_ends():
+    steps = predicates.substeps(3, -7)
+    assert steps[0] == (0, 0) and steps[-1] == (3, -7)
+    assert len(steps) == 8
+    for (x0, y0), (x1, y1) in itertools.pairwise(steps):
+        assert abs(x1 - x0) <= 1 and abs(y1 - y0) == 1
+    assert predicates.substeps(0, 0) == [(0, 0)]
+
+
+def test_swept_contact_is_the_first_substep_that_touches():
+    wall = mask("#")  # a one-pixel wall at (0, 0)
+    bar = mask("#", "#", "#", "#")  # 1x4, starting below the wall, moving up 12
+    found = predicates.first_swept_contact(wall, bar, 0, 5, 0, -12)
+    assert found is not None
+    step, steps, pixel = found
+    assert (step, steps, pixel) == (5, 12, (0, 0))  # five rows up, the bar's top reaches it
+    # Neither end touches, so a discrete test would have missed it.
+    assert wall.overlap(bar, (0, 5)) is None and wall.overlap(bar, (0, -7)) is None
+
+
+def test_swept_box_overlap_matches_the_union_of_positions():
+    assert predicates.swept_box_overlap(1, 1, 1, 4, 0, 5, 0, -12)
+    assert not predicates.swept_box_overlap(1, 1, 1, 4, 1, 5, 0, -12)
