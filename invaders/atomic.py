@@ -32,3 +32,20 @@ def write_atomic(path: str | os.PathLike[str], text: str) -> None:
     """Replace `path` with `text` atomically."""
     with atomic_writer(path) as handle:
         handle.write(text)
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | os.PathLike[str]) -> Iterator[str]:
+    """Yield a temporary path with the same suffix (for writers that take a file name, such
+    as pygame.image.save); on success it is renamed over `path`."""
+    target = Path(path)
+    folder = target.parent if str(target.parent) else Path(".")
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=folder)
+    os.close(fd)
+    try:
+        yield tmp
+        os.replace(tmp, target)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise

@@ -29,11 +29,11 @@ class Scene:
     def __init__(self, bodies: Sequence[Body], tick: int = 0) -> None:
         self.tick = tick
         self.dirty = list(bodies)
-        self._by_kind = {kind: sorted((b for b in bodies if b.kind is kind), key=lambda b: b.id)
-                         for kind in Kind}
+        self.by_kind = {kind: sorted((b for b in bodies if b.kind is kind), key=lambda b: b.id)
+                        for kind in Kind}
 
     def bodies(self, kind: Kind) -> list[Body]:
-        return self._by_kind[kind]
+        return self.by_kind[kind]
 
 
 def active_world(seed: int = 0, **kwargs) -> World:

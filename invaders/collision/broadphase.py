@@ -8,7 +8,7 @@ the same sorted list whenever their boxes overlap, so contacts never depend on t
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Protocol
 
 from invaders.collision.body import Body, Kind
@@ -23,8 +23,7 @@ class Scene(Protocol):
 
     tick: int
     dirty: Sequence[Body]  # bodies added, moved or removed since the previous tick's detect
-
-    def bodies(self, kind: Kind) -> Sequence[Body]: ...
+    by_kind: Mapping[Kind, Sequence[Body]]  # live bodies of each kind, in id order
 
 
 class BroadPhase(Protocol):
@@ -71,6 +70,9 @@ class Grid:
             raise ValueError("grid cell size must be at least 1 px")
         self.cell = cell
         self.layers: dict[Kind, dict[int, list[Body]]] = {kind: {} for kind in Kind}
+        # Per layer, how many binned cells each cell row holds: a probe whose rows are all
+        # empty in the other layer skips its cells at the cost of one look-up per row.
+        self.rows: dict[Kind, dict[int, int]] = {kind: {} for kind in Kind}
         self.ranges: dict[int, tuple[int, int, int, int]] = {}
         self._scene: Scene | None = None
         self._tick = -2
@@ -89,10 +91,11 @@ class Grid:
 
     def _rebuild(self, scene: Scene, swept: frozenset[Kind]) -> None:
         self.layers = {kind: {} for kind in Kind}
+        self.rows = {kind: {} for kind in Kind}
         self.ranges = {}
         for kind in Kind:
             is_swept = kind in swept
-            for body in scene.bodies(kind):
+            for body in scene.by_kind[kind]:
                 self._update(body, is_swept, scene.tick)
 
     def cell_range(self, body: Body, is_swept: bool, tick: int) -> tuple[int, int, int, int]:
@@ -112,7 +115,13 @@ class Grid:
                 self._unbin(body, old)
                 del self.ranges[body.id]
             return
-        new = self.cell_range(body, is_swept, tick)
+        c = self.cell
+        x0, y0, x1, y1 = body.x, body.y, body.x + body.w, body.y + body.h
+        if is_swept and body.moved_tick == tick:  # as cell_range, inlined: this runs a lot
+            px, py = body.px, body.py
+            x0, y0 = min(x0, px), min(y0, py)
+            x1, y1 = max(x1, px + body.w), max(y1, py + body.h)
+        new = (x0 // c, y0 // c, (x1 - 1) // c, (y1 - 1) // c)
         if new == old:
             return
         if old is not None:
@@ -123,8 +132,10 @@ class Grid:
 
     def _bin(self, body: Body, r: tuple[int, int, int, int]) -> None:
         layer = self.layers[body.kind]
+        rows = self.rows[body.kind]
         stride = self.STRIDE
         for cy in range(r[1], r[3] + 1):
+            rows[cy] = rows.get(cy, 0) + r[2] - r[0] + 1
             for cx in range(r[0], r[2] + 1):
                 key = cy * stride + cx
                 cell = layer.get(key)
@@ -135,8 +146,14 @@ class Grid:
 
     def _unbin(self, body: Body, r: tuple[int, int, int, int]) -> None:
         layer = self.layers[body.kind]
+        rows = self.rows[body.kind]
         stride = self.STRIDE
         for cy in range(r[1], r[3] + 1):
+            left = rows[cy] - (r[2] - r[0] + 1)
+            if left:
+                rows[cy] = left
+            else:
+                del rows[cy]
             for cx in range(r[0], r[2] + 1):
                 key = cy * stride + cx
                 cell = layer[key]
@@ -149,19 +166,26 @@ class Grid:
         self.sync(scene, swept)
         out: list[Pair] = []
         stride = self.STRIDE
-        tick = scene.tick
+        ranges = self.ranges
         for rule, side_a, side_b in groups:
             # Probe with the smaller side; look only in the other kind's layer.
             if len(side_a) <= len(side_b):
-                probes, layer, others = side_a, self.layers[rule.b], side_b
+                probes, kind, others = side_a, rule.b, side_b
             else:
-                probes, layer, others = side_b, self.layers[rule.a], side_a
+                probes, kind, others = side_b, rule.a, side_a
+            layer = self.layers[kind]
+            rows = self.rows[kind]
             if not layer:
                 continue
             allowed = None if rule.zone is None else {b.id for b in others}
-            probe_swept = probes[0].kind in swept
             for probe in probes:
-                cx0, cy0, cx1, cy1 = self.cell_range(probe, probe_swept, tick)
+                # Its own binned range: exact, or for a resting swept body a safe superset.
+                cx0, cy0, cx1, cy1 = ranges[probe.id]
+                if cy0 == cy1:
+                    if cy0 not in rows:
+                        continue
+                elif not any(cy in rows for cy in range(cy0, cy1 + 1)):
+                    continue
                 if cx0 == cx1 and cy0 == cy1:
                     for other in layer.get(cy0 * stride + cx0, ()):
                         if allowed is None or other.id in allowed:
@@ -175,7 +199,8 @@ class Grid:
                             if oid not in seen and (allowed is None or oid in allowed):
                                 seen.add(oid)
                                 out.append(_ordered(probe, other, rule))
-        out.sort(key=_pair_key)
+        if len(out) > 1:
+            out.sort(key=_pair_key)
         return out
 
 

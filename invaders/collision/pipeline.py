@@ -35,27 +35,30 @@ class Detector:
         self.broadphase = broadphase
         self.rules = rules
         self.swept = swept_kinds(rules)
+        self._table = tuple((rule, rule.a, rule.b, rule.zone) for rule in rules)
+        self.last_pairs: list[tuple[int, int]] = []  # the last tick's candidates, for overlays
 
     def detect(self, scene: Scene) -> tuple[list[Contact], CollisionStats]:
-        bodies = scene.bodies
-        n = 0
-        for kind in KINDS:
-            n += len(bodies(kind))
+        by_kind = scene.by_kind
+        n = sum(map(len, by_kind.values()))
         groups: list[Group] = []
         allowed = 0
-        for rule in self.rules:
-            side_a: Sequence[Body] = bodies(rule.a)
-            side_b: Sequence[Body] = bodies(rule.b)
-            if not side_a or not side_b:
+        for rule, kind_a, kind_b, zone in self._table:
+            side_a: Sequence[Body] = by_kind[kind_a]
+            if not side_a:
                 continue
-            if rule.zone is not None:
-                side_a = [body for body in side_a if _in_zone(body, rule.zone)]
-                side_b = [body for body in side_b if _in_zone(body, rule.zone)]
+            side_b: Sequence[Body] = by_kind[kind_b]
+            if not side_b:
+                continue
+            if zone is not None:
+                side_a = [body for body in side_a if _in_zone(body, zone)]
+                side_b = [body for body in side_b if _in_zone(body, zone)]
                 if not side_a or not side_b:
                     continue
             allowed += len(side_a) * len(side_b)
             groups.append((rule, side_a, side_b))
         pairs = self.broadphase.pairs(scene, groups, self.swept) if groups else []
+        self.last_pairs = [(a.id, b.id) for a, b, _ in pairs] if pairs else []
 
         tick = scene.tick
         contacts: list[Contact] = []

@@ -35,6 +35,8 @@ from invaders.sim.entities import (
 from invaders.sim.events import Event
 from invaders.sim.rack import Rack
 
+LEFT, RIGHT, FIRE, START = (int(a) for a in (Action.LEFT, Action.RIGHT, Action.FIRE, Action.START))
+
 
 class Phase(IntEnum):
     PLAYING = 0
@@ -157,7 +159,7 @@ class World:
     def step(self, actions: int = 0) -> TickReport:
         """Advance one tick with this tick's input bits; return what happened."""
         self.events = []
-        fire_down = bool(actions & Action.FIRE)
+        fire_down = bool(actions & FIRE)
         fire_pressed = fire_down and not self.fire_was_down
         self.fire_was_down = fire_down
         self._age_explosions()
@@ -169,7 +171,7 @@ class World:
                 self._start_wave(self.wave + 1)
         elif self.phase is Phase.GAME_OVER:
             self.phase_timer -= 1
-            if self.phase_timer <= 0 and actions & Action.START:
+            if self.phase_timer <= 0 and actions & START:
                 self._new_game()
                 self.events.append(Event.NEW_GAME)
         contacts, stats = self.detector.detect(self)
@@ -222,7 +224,7 @@ class World:
             return
         if self.alien_fire_timer > 0:
             self.alien_fire_timer -= 1
-        dx = (1 if actions & Action.RIGHT else 0) - (1 if actions & Action.LEFT else 0)
+        dx = (1 if actions & RIGHT else 0) - (1 if actions & LEFT else 0)
         if dx:
             x = min(max(cannon.x + dx * self.config.speeds.cannon, g.cannon_min_x), g.cannon_max_x)
             if x != cannon.x:
