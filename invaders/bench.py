@@ -1,7 +1,8 @@
 """`invaders bench`: timings taken side by side in one run and printed as ratios.
 
-Machines here are noisy, so every figure is the best of --repeat runs, and what counts is
-the ratio between methods measured in the same process moments apart. Never run by the tests.
+Machines are noisy, so every figure is the best of --repeat runs, and what counts is the
+ratio between methods measured in the same process moments apart, both with the cyclic
+garbage collector paused (as timeit does). Never run by the tests.
 
 1. Headless ticks per second of one autopilot game, with the grid and with brute force.
 2. Detection per tick on the same recorded frames: our pipeline (as it ran in the game)
@@ -11,7 +12,10 @@ the ratio between methods measured in the same process moments apart. Never run 
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import pygame
@@ -61,15 +65,30 @@ class TimedDetector:
         return contacts, stats
 
 
+@contextlib.contextmanager
+def no_gc() -> Iterator[None]:
+    """Time without the cyclic garbage collector, as timeit does, for both sides alike."""
+    was_enabled = gc.isenabled()
+    gc.collect()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was_enabled:
+            gc.enable()
+
+
 def play_game(ticks: int, seed: int, broadphase: str, record: bool) -> tuple[float, TimedDetector]:
     """Wall seconds for a headless autopilot game, and its timed detector."""
     detector = TimedDetector(make_detector(broadphase), record)
     world = World(seed=seed, detector=detector)  # type: ignore[arg-type]
     pilot = Autopilot(seed)
-    start = time.perf_counter()
-    for _ in range(ticks):
-        world.step(pilot.actions(world))
-    return time.perf_counter() - start, detector
+    with no_gc():
+        start = time.perf_counter()
+        for _ in range(ticks):
+            world.step(pilot.actions(world))
+        seconds = time.perf_counter() - start
+    return seconds, detector
 
 
 class _Sprite(pygame.sprite.Sprite):
@@ -101,10 +120,14 @@ def groupcollide_frames(frames: list[Frame]) -> tuple[float, list[set[tuple[int,
     found: list[set[tuple[int, int]]] = []
     seconds = 0.0
     collide = pygame.sprite.collide_mask
-    for groups in prepared:
-        start = time.perf_counter()
-        hits = [pygame.sprite.groupcollide(a, b, False, False, collide) for a, b in groups]
-        seconds += time.perf_counter() - start
+    results = []
+    with no_gc():
+        for groups in prepared:
+            start = time.perf_counter()
+            hits = [pygame.sprite.groupcollide(a, b, False, False, collide) for a, b in groups]
+            seconds += time.perf_counter() - start
+            results.append(hits)
+    for hits in results:
         pairs = set()
         for result in hits:
             for sprite, others in result.items():

@@ -11,7 +11,7 @@ import pygame
 
 from invaders import art, font
 from invaders.collision.broadphase import Grid
-from invaders.collision.stats import STAT_FIELDS, CollisionStats
+from invaders.collision.stats import CollisionStats
 from invaders.config import SCREEN_H, SCREEN_W
 from invaders.sim.entities import BOMB_PICTURES, CannonState
 from invaders.sim.world import Phase, World
@@ -145,13 +145,33 @@ class Renderer:
                                      (body.x * s, body.y * s, body.w * s, body.h * s), 1)
         if self._font is None:
             pygame.font.init()
-            self._font = pygame.font.Font(None, 9 * s)
-        lines = [f"tick {world.tick}  {broadphase.name}"]
-        if stats is not None:
-            lines += [f"{name} {value}" for name, value in zip(STAT_FIELDS, stats, strict=True)]
-        for i, line in enumerate(lines):
-            label = self._font.render(line, True, (255, 255, 255), (0, 0, 0))
-            target.blit(label, (4, 56 * s + i * label.get_height()))
+            self._font = pygame.font.Font(None, 7 * s)
+        labels = [self._font.render(line, True, (255, 255, 255))
+                  for line in overlay_lines(world.tick, broadphase, stats)]
+        width = max(label.get_width() for label in labels) + 2 * s
+        height = sum(label.get_height() for label in labels) + 2 * s
+        panel = pygame.Surface((width, height), pygame.SRCALPHA)
+        panel.fill((0, 0, 0, 170))
+        y = s
+        for label in labels:
+            panel.blit(label, (s, y))
+            y += label.get_height()
+        target.blit(panel, (target.get_width() - width - s, 34 * s))
+
+
+def overlay_lines(tick: int, broadphase: object, stats: CollisionStats | None) -> list[str]:
+    """The counters as a few short lines: each pipeline step, what it considered."""
+    name = getattr(broadphase, "name", "?")
+    cell = getattr(broadphase, "cell", None)
+    lines = [f"tick {tick}  {name}" + (f" {cell}px" if cell else "")]
+    if stats is not None:
+        lines += [
+            f"objects {stats.objects}  naive {stats.naive_pairs}",
+            f"rules {stats.allowed_pairs}  broad {stats.candidates}",
+            f"rect {stats.rect_hits}/{stats.rect_tests}  mask {stats.mask_hits}/{stats.mask_tests}",
+            f"swept {stats.swept_tests}  contacts {stats.contacts}",
+        ]
+    return lines
 
 
 def _lerp(body, tick: int, alpha: float) -> tuple[int, int]:

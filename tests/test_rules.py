@@ -96,8 +96,8 @@ class SpyGrid(Grid):
         super().__init__()
         self.kind_pairs: set[frozenset[Kind]] = set()
 
-    def pairs(self, scene, groups, swept):
-        out = super().pairs(scene, groups, swept)
+    def pairs(self, scene, groups, kinds):
+        out = super().pairs(scene, groups, kinds)
         self.kind_pairs.update(frozenset({a.kind, b.kind}) for a, b, _ in out)
         return out
 

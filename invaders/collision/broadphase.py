@@ -9,13 +9,20 @@ the same sorted list whenever their boxes overlap, so contacts never depend on t
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import Protocol
+from typing import NamedTuple, Protocol
 
 from invaders.collision.body import Body, Kind
 from invaders.collision.rules import PairRule
 
 Group = tuple[PairRule, Sequence[Body], Sequence[Body]]
 Pair = tuple[Body, Body, PairRule]
+
+
+class KindSets(NamedTuple):
+    """What the rules say about kinds: which are swept, which are ever looked up."""
+
+    swept: frozenset[Kind]
+    probed: frozenset[Kind]
 
 
 class Scene(Protocol):
@@ -29,7 +36,7 @@ class Scene(Protocol):
 class BroadPhase(Protocol):
     name: str
 
-    def pairs(self, scene: Scene, groups: Sequence[Group], swept: frozenset[Kind]) -> list[Pair]:
+    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> list[Pair]:
         """Candidate pairs (low id first), sorted by (low id, high id)."""
         ...
 
@@ -47,7 +54,7 @@ class Brute:
 
     name = "brute"
 
-    def pairs(self, scene: Scene, groups: Sequence[Group], swept: frozenset[Kind]) -> list[Pair]:
+    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> list[Pair]:
         out = [_ordered(a, b, rule) for rule, side_a, side_b in groups
                for a in side_a for b in side_b]
         out.sort(key=_pair_key)
@@ -56,6 +63,9 @@ class Brute:
 
 class Grid:
     """Uniform grid, one layer of cells per kind, so a probe only meets kinds it may hit.
+
+    In each rule side `a` probes the layer of kind `b`; kinds that are never looked up (in
+    the game the shot and the cannon) are never binned, so moving them costs nothing here.
 
     Swept kinds are binned by the union of their boxes at the start and end of the tick. A
     body that stopped moving keeps its larger range until it next moves: a superset, which
@@ -74,27 +84,34 @@ class Grid:
         # empty in the other layer skips its cells at the cost of one look-up per row.
         self.rows: dict[Kind, dict[int, int]] = {kind: {} for kind in Kind}
         self.ranges: dict[int, tuple[int, int, int, int]] = {}
+        self._kinds = KindSets(frozenset(), frozenset())
         self._scene: Scene | None = None
         self._tick = -2
         self.rebins = 0  # how many times a body changed cells (for the study and tests)
 
     # --- keeping the cells in step with the scene -------------------------------------------
-    def sync(self, scene: Scene, swept: frozenset[Kind]) -> None:
+    def sync(self, scene: Scene, kinds: KindSets) -> None:
         """Apply the scene's dirty list, or rebuild if this is not the next tick we saw."""
-        if scene is not self._scene or scene.tick not in (self._tick, self._tick + 1):
-            self._rebuild(scene, swept)
-        else:
+        tick = scene.tick
+        if (scene is not self._scene or kinds is not self._kinds
+                or (tick != self._tick + 1 and tick != self._tick)):
+            self._rebuild(scene, kinds)
+        elif scene.dirty:
+            swept, probed = kinds
+            update = self._update
             for body in scene.dirty:
-                self._update(body, body.kind in swept, scene.tick)
+                if body.kind in probed:
+                    update(body, body.kind in swept, tick)
         self._scene = scene
-        self._tick = scene.tick
+        self._tick = tick
 
-    def _rebuild(self, scene: Scene, swept: frozenset[Kind]) -> None:
+    def _rebuild(self, scene: Scene, kinds: KindSets) -> None:
+        self._kinds = kinds
         self.layers = {kind: {} for kind in Kind}
         self.rows = {kind: {} for kind in Kind}
         self.ranges = {}
-        for kind in Kind:
-            is_swept = kind in swept
+        for kind in kinds.probed:
+            is_swept = kind in kinds.swept
             for body in scene.by_kind[kind]:
                 self._update(body, is_swept, scene.tick)
 
@@ -162,25 +179,27 @@ class Grid:
                     del layer[key]
 
     # --- queries ---------------------------------------------------------------------------
-    def pairs(self, scene: Scene, groups: Sequence[Group], swept: frozenset[Kind]) -> list[Pair]:
-        self.sync(scene, swept)
+    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> list[Pair]:
+        self.sync(scene, kinds)
         out: list[Pair] = []
         stride = self.STRIDE
         ranges = self.ranges
-        for rule, side_a, side_b in groups:
-            # Probe with the smaller side; look only in the other kind's layer.
-            if len(side_a) <= len(side_b):
-                probes, kind, others = side_a, rule.b, side_b
-            else:
-                probes, kind, others = side_b, rule.a, side_a
-            layer = self.layers[kind]
-            rows = self.rows[kind]
-            if not layer:
+        unbinned: dict[int, tuple[int, int, int, int]] = {}
+        tick = scene.tick
+        swept = kinds.swept
+        for rule, probes, others in groups:
+            rows = self.rows[rule.b]
+            if not rows:
                 continue
+            layer = self.layers[rule.b]
             allowed = None if rule.zone is None else {b.id for b in others}
             for probe in probes:
-                # Its own binned range: exact, or for a resting swept body a safe superset.
-                cx0, cy0, cx1, cy1 = ranges[probe.id]
+                # Its binned range (exact, or for a resting swept body a safe superset), or
+                # for a kind that is never binned, worked out once per call.
+                r = ranges.get(probe.id) or unbinned.get(probe.id)
+                if r is None:
+                    r = unbinned[probe.id] = self.cell_range(probe, probe.kind in swept, tick)
+                cx0, cy0, cx1, cy1 = r
                 if cy0 == cy1:
                     if cy0 not in rows:
                         continue

@@ -12,8 +12,8 @@ from collections.abc import Sequence
 
 from invaders.collision import predicates
 from invaders.collision.body import ERODIBLE, Body, Kind
-from invaders.collision.broadphase import BroadPhase, Group, Scene, make_broadphase
-from invaders.collision.rules import RULES, Motion, PairRule, Shape, swept_kinds
+from invaders.collision.broadphase import BroadPhase, Group, KindSets, Scene, make_broadphase
+from invaders.collision.rules import RULES, Motion, PairRule, Shape, probed_kinds, swept_kinds
 from invaders.collision.stats import CollisionStats, Contact
 
 KINDS = tuple(Kind)
@@ -35,8 +35,9 @@ class Detector:
         self.broadphase = broadphase
         self.rules = rules
         self.swept = swept_kinds(rules)
+        self.kinds = KindSets(self.swept, probed_kinds(rules))
         self._table = tuple((rule, rule.a, rule.b, rule.zone) for rule in rules)
-        self.last_pairs: list[tuple[int, int]] = []  # the last tick's candidates, for overlays
+        self.last_pairs: Sequence[tuple[int, int]] = ()  # last tick's candidates, for overlays
 
     def detect(self, scene: Scene) -> tuple[list[Contact], CollisionStats]:
         by_kind = scene.by_kind
@@ -57,8 +58,8 @@ class Detector:
                     continue
             allowed += len(side_a) * len(side_b)
             groups.append((rule, side_a, side_b))
-        pairs = self.broadphase.pairs(scene, groups, self.swept) if groups else []
-        self.last_pairs = [(a.id, b.id) for a, b, _ in pairs] if pairs else []
+        pairs = self.broadphase.pairs(scene, groups, self.kinds) if groups else []
+        self.last_pairs = [(a.id, b.id) for a, b, _ in pairs] if pairs else ()
 
         tick = scene.tick
         contacts: list[Contact] = []

@@ -1,6 +1,8 @@
 """The rules table: which pairs of kinds are ever tested, and how.
 
 A pair of kinds with no entry is never tested: that is the first reduction, done as data.
+In each entry side `a` probes: the grid looks up `a`'s cells in the layer of kind `b`, so
+kinds that only ever probe (the shot, the cannon) are never binned at all.
 Each entry names, per side, whether the box is the whole shape (BOX) or pixels matter (MASK),
 whether discrete positions suffice or the relative motion of the tick must be swept, and an
 optional zone outside which the pair cannot meet. `tests/test_rules.py` proves each DISCRETE
@@ -70,7 +72,7 @@ RULES: tuple[PairRule, ...] = (
              "bombs kill the cannon; a bomb's 1-px side columns step 4-5 px"),
     PairRule(Kind.BOMB, Kind.BUNKER, M, M, S, None,
              "bombs erode shields, whose eroded edges can be 1 px thin"),
-    PairRule(Kind.ALIEN, Kind.BUNKER, B, M, D, None,
+    PairRule(Kind.BUNKER, Kind.ALIEN, M, B, D, None,
              "low aliens clear their 16x16 draw footprint where it lands, chewing the shields"),
 )
 
@@ -103,6 +105,11 @@ def rule_for(a: Kind, b: Kind, rules: tuple[PairRule, ...] = RULES) -> PairRule 
         if (rule.a, rule.b) in ((a, b), (b, a)):
             return rule
     return None
+
+
+def probed_kinds(rules: tuple[PairRule, ...] = RULES) -> frozenset[Kind]:
+    """Kinds some entry looks up in the grid: only these need cells."""
+    return frozenset(r.b for r in rules)
 
 
 def swept_kinds(rules: tuple[PairRule, ...] = RULES) -> frozenset[Kind]:

@@ -1,0 +1,100 @@
+"""The command line as users and CI call it: summaries, reports, hashes, one-line errors."""
+
+from __future__ import annotations
+
+import csv
+import json
+import re
+import statistics
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from invaders.cli import main
+
+HEX = re.compile(r"^[0-9a-f]{32}$")
+
+
+def _run(capsys, *args: str) -> tuple[int, str, str]:
+    code = main(list(args))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_a_one_minute_autopilot_run_writes_3600_rows_and_the_grid_prunes(tmp_path, capsys):
+    report = tmp_path / "r.csv"
+    code, out, _ = _run(capsys, "run", "--ticks", "3600", "--seed", "7", "--autopilot",
+                        "--report", str(report))
+    assert code == 0
+    assert HEX.match(out.strip().splitlines()[-1])
+    with report.open() as handle:
+        rows = list(csv.DictReader(handle))
+    assert len(rows) == 3600
+    assert [int(r["tick"]) for r in rows] == list(range(3600))
+    candidates = statistics.median(int(r["candidates"]) for r in rows)
+    naive = statistics.median(int(r["naive_pairs"]) for r in rows)
+    assert naive > 1000
+    assert candidates <= 0.02 * naive
+    assert sum(int(r["contacts"]) for r in rows) > 50  # the game really played
+    assert not list(tmp_path.glob(".*.tmp"))  # no temporary file left behind
+
+
+def test_the_hash_depends_on_the_seed_only_not_on_the_broad_phase(capsys):
+    def last(*extra: str) -> str:
+        code, out, _ = _run(capsys, "run", "--ticks", "1500", "--autopilot", *extra)
+        assert code == 0
+        return out.strip().splitlines()[-1]
+
+    grid = last("--seed", "7")
+    assert last("--seed", "7") == grid
+    assert last("--seed", "7", "--broadphase", "brute") == grid
+    assert last("--seed", "7", "--cell", "40") == grid
+    assert last("--seed", "8") != grid
+
+
+def test_the_summary_names_the_pipeline_steps(capsys):
+    code, out, _ = _run(capsys, "run", "--ticks", "600", "--seed", "1", "--autopilot")
+    assert code == 0
+    for label in ("naive pairs", "rules allow", "broad phase", "rect tests", "mask tests",
+                  "swept tests", "contacts", "score", "aliens killed"):
+        assert label in out
+
+
+def test_a_jsonl_report_has_one_object_per_tick(tmp_path, capsys):
+    report = tmp_path / "r.jsonl"
+    code, _, _ = _run(capsys, "run", "--ticks", "120", "--autopilot", "--report", str(report))
+    assert code == 0
+    records = [json.loads(line) for line in report.read_text().splitlines()]
+    assert len(records) == 120
+    assert set(records[0]) >= {"tick", "objects", "naive_pairs", "candidates", "contacts"}
+
+
+@pytest.mark.parametrize("args, problem", [
+    (["run", "--ticks", "-3"], "--ticks"),
+    (["run", "--ticks", "lots"], "--ticks"),
+    (["run", "--seed", "x"], "--seed"),
+    (["run", "--broadphase", "octree"], "octree"),
+    (["run", "--report", "out.txt"], ".csv or .jsonl"),
+    (["run", "--report", "/no/such/folder/r.csv"], "cannot write report"),
+    (["run", "--cell", "0"], "--cell"),
+    (["play", "--scale", "99"], "--scale"),
+    (["fly"], "fly"),
+])
+def test_bad_input_is_one_line_naming_the_problem_and_exit_2(capsys, args, problem):
+    code, out, err = _run(capsys, *args)
+    assert code == 2
+    assert out == ""
+    assert len(err.strip().splitlines()) == 1
+    assert problem in err
+    assert "Traceback" not in err
+
+
+def test_the_installed_command_runs_headless():
+    script = Path(sys.executable).with_name("invaders")
+    result = subprocess.run([str(script), "run", "--ticks", "200", "--seed", "3"],
+                            capture_output=True, text=True, timeout=120, check=False)
+    assert result.returncode == 0, result.stderr
+    assert HEX.match(result.stdout.strip().splitlines()[-1])
+    assert "pygame" not in result.stdout  # no banner: the hash is the last line, cleanly

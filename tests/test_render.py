@@ -1,0 +1,53 @@
+"""Rendering reads the world and never writes it; sprites land on exact pixels at any scale."""
+
+from __future__ import annotations
+
+import pygame
+
+from invaders import art
+from invaders.cli import main
+from invaders.render import Renderer
+from tests.helpers import active_world
+
+
+def _lit(surface: pygame.Surface, x: int, y: int) -> bool:
+    return surface.get_at((x, y))[:3] != (0, 0, 0)
+
+
+def test_the_cannon_is_drawn_pixel_for_pixel_and_scaled_as_blocks():
+    world = active_world()
+    cannon = world.cannon
+    flat = pygame.Surface((224, 256))
+    Renderer(1).draw(flat, world)
+    for y, row in enumerate(art.CANNON):
+        for x, ch in enumerate(row):
+            assert _lit(flat, cannon.x + x, cannon.y + y) == (ch == "#"), (x, y)
+    big = pygame.Surface((224 * 3, 256 * 3))
+    Renderer(3).draw(big, world)
+    for y, row in enumerate(art.CANNON):
+        for x, ch in enumerate(row):
+            for dy in range(3):
+                for dx in range(3):
+                    px, py = (cannon.x + x) * 3 + dx, (cannon.y + y) * 3 + dy
+                    assert _lit(big, px, py) == (ch == "#")
+
+
+def test_drawing_with_the_overlay_does_not_change_the_world():
+    world = active_world(seed=2)
+    for _ in range(200):
+        world.step(4 if world.tick % 20 == 0 else 0)
+    before = world.state_hash()
+    target = pygame.Surface((224 * 2, 256 * 2))
+    report = world.step(0)
+    after_step = world.state_hash()
+    assert after_step != before
+    Renderer(2).draw(target, world, 0.5, overlay=True, stats=report.stats)
+    assert world.state_hash() == after_step
+
+
+def test_screenshot_writes_a_png_of_the_scaled_window(tmp_path, capsys):
+    path = tmp_path / "shot.png"
+    assert main(["play", "--screenshot", str(path), "--ticks", "300", "--scale", "2"]) == 0
+    image = pygame.image.load(str(path))
+    assert image.get_size() == (448, 512)
+    assert not list(tmp_path.glob(".*"))
