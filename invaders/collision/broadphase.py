@@ -187,24 +187,29 @@ class Grid:
         unbinned: dict[int, tuple[int, int, int, int]] = {}
         tick = scene.tick
         swept = kinds.swept
+        all_rows = self.rows
         for rule, probes, others in groups:
-            rows = self.rows[rule.b]
+            rows = all_rows[rule.b]
             if not rows:
                 continue
+            if rule.a in kinds.probed and rows.keys().isdisjoint(all_rows[rule.a]):
+                continue  # both kinds binned, and no cell row holds both: nothing can meet
             layer = self.layers[rule.b]
             allowed = None if rule.zone is None else {b.id for b in others}
             for probe in probes:
                 # Its binned range (exact, or for a resting swept body a safe superset), or
                 # for a kind that is never binned, worked out once per call.
-                r = ranges.get(probe.id) or unbinned.get(probe.id)
+                r = ranges.get(probe.id)
                 if r is None:
-                    r = unbinned[probe.id] = self.cell_range(probe, probe.kind in swept, tick)
+                    r = unbinned.get(probe.id)
+                    if r is None:
+                        r = unbinned[probe.id] = self.cell_range(probe, probe.kind in swept, tick)
                 cx0, cy0, cx1, cy1 = r
-                if cy0 == cy1:
-                    if cy0 not in rows:
-                        continue
-                elif not any(cy in rows for cy in range(cy0, cy1 + 1)):
-                    continue
+                for cy in range(cy0, cy1 + 1):
+                    if cy in rows:
+                        break
+                else:
+                    continue  # no row of the probe holds any body of the other kind
                 if cx0 == cx1 and cy0 == cy1:
                     for other in layer.get(cy0 * stride + cx0, ()):
                         if allowed is None or other.id in allowed:

@@ -94,12 +94,15 @@ class Detector:
 
     def _swept(self, a: Body, b: Body, rule: PairRule, tick: int) -> tuple[bool, Contact | None]:
         """Swept box test, then the pixel walk: (did the boxes meet, the contact or None)."""
-        apx, apy = a.start_of_tick(tick)
-        bpx, bpy = b.start_of_tick(tick)
+        apx, apy = (a.px, a.py) if a.moved_tick == tick else (a.x, a.y)
+        bpx, bpy = (b.px, b.py) if b.moved_tick == tick else (b.x, b.y)
         ox, oy = bpx - apx, bpy - apy  # b relative to a at the tick's start
         dx = (b.x - bpx) - (a.x - apx)
         dy = (b.y - bpy) - (a.y - apy)
-        if not predicates.swept_box_overlap(a.w, a.h, b.w, b.h, ox, oy, dx, dy):
+        # The quick test: b's box swept from (ox, oy) by (dx, dy) against a's box at the origin.
+        sx0 = ox + dx if dx < 0 else ox
+        sy0 = oy + dy if dy < 0 else oy
+        if not (sx0 < a.w and sx0 + b.w + abs(dx) > 0 and sy0 < a.h and sy0 + b.h + abs(dy) > 0):
             return False, None
         a_mask = _shape_mask(a, rule.shape_of(a.kind))
         b_mask = _shape_mask(b, rule.shape_of(b.kind))
