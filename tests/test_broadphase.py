@@ -12,17 +12,8 @@ from invaders.autopilot import Autopilot
 from invaders.collision.body import Body, Kind
 from invaders.collision.broadphase import Brute, Grid
 from invaders.collision.pipeline import Detector
-from invaders.sim.entities import ALIEN_MASKS, BOMB_MASKS
 from invaders.sim.world import World
-from tests.helpers import Scene, active_world
-
-SHARED_MASKS = {
-    Kind.SHOT: [art.mask_of(art.SHOT)],
-    Kind.BOMB: [m for masks in BOMB_MASKS.values() for m in masks],
-    Kind.ALIEN: [m for masks in ALIEN_MASKS for m in masks],
-    Kind.SAUCER: [art.mask_of(art.SAUCER)],
-    Kind.CANNON: [art.mask_of(art.CANNON)],
-}
+from tests.helpers import SHARED_MASKS, Scene, active_world
 
 
 def _random_body(rng: random.Random, body_id: int, kind: Kind, tick: int) -> Body:

@@ -74,6 +74,17 @@ def _drop_bomb(world: World, btype: BombType, x: int, y: int) -> Bomb:
     return bomb
 
 
+def _fall_until_shield_hit(world: World, bomb: Bomb, bunker) -> tuple[int, int, int, object]:
+    """Step until the bomb hits a shield; its x, y and picture frame at the start of that
+    tick (it steps, then is tested), and the tick's report."""
+    while True:
+        x, y, frame = bomb.x, bomb.y, bomb.frame
+        report = world.step(0)
+        if Event.BUNKER_HIT in report.events:
+            return x, y, (frame + 1) % 4, report
+        assert bomb.alive and bomb.y < bunker.y + bunker.h, "the bomb went through"
+
+
 def _expected_after_bomb(rows, picture, x, y0, y1):
     """First row between y0 and y1 (inclusive) at which the picture touches, and the result."""
     for y in range(y0, y1 + 1):
@@ -86,12 +97,8 @@ def test_a_bomb_erases_its_image_at_first_contact_then_its_burst_shape():
     world = _quiet_world()
     bunker = world.bunkers[1]
     bomb = _drop_bomb(world, BombType.PLUNGER, bunker.x + 10, bunker.y - 17)
-    while True:
-        x, y, frame = bomb.x, bomb.y, bomb.frame
-        report = world.step(0)
-        if Event.BUNKER_HIT in report.events:
-            break
-    picture = art.BOMB_PLUNGER[(frame + 1) % 4]
+    x, y, frame, report = _fall_until_shield_hit(world, bomb, bunker)
+    picture = art.BOMB_PLUNGER[frame]
     hit_y, expected = _expected_after_bomb(art.BUNKER, picture, x - bunker.x, y - bunker.y,
                                            y + 4 - bunker.y)
     assert report.contacts[0].by == bunker.y + hit_y
@@ -106,13 +113,8 @@ def test_a_bomb_cannot_slip_past_a_one_pixel_remnant():
         bunker.mask.set_at((col, 9), 1)  # all that is left: a 1-px ledge across row 9
     rows = mask_rows(bunker.mask)
     bomb = _drop_bomb(world, BombType.SQUIGGLY, bunker.x + 8, bunker.y - 12)
-    while True:
-        x, y, frame = bomb.x, bomb.y, bomb.frame
-        report = world.step(0)
-        if Event.BUNKER_HIT in report.events:
-            break
-        assert bomb.alive and bomb.y < bunker.y + 16, "the bomb went through"
-    picture = art.BOMB_SQUIGGLY[(frame + 1) % 4]
+    x, y, frame, _ = _fall_until_shield_hit(world, bomb, bunker)
+    picture = art.BOMB_SQUIGGLY[frame]
     _, expected = _expected_after_bomb(rows, picture, x - bunker.x, y - bunker.y,
                                        y + 4 - bunker.y)
     assert mask_rows(bunker.mask) == expected

@@ -6,7 +6,6 @@ import itertools
 
 import pytest
 
-from invaders import art
 from invaders.autopilot import Autopilot
 from invaders.collision.body import Kind
 from invaders.collision.broadphase import Grid
@@ -21,8 +20,8 @@ from invaders.collision.rules import (
     sweep_adds_pixels,
 )
 from invaders.config import DEFAULT_CONFIG
-from invaders.sim.entities import ALIEN_MASKS, BOMB_MASKS
 from invaders.sim.world import World
+from tests.helpers import SHARED_MASKS as MASKS
 
 S = DEFAULT_CONFIG.speeds
 # Every displacement a body of each kind can make in one tick (0, 0: it did not move).
@@ -35,13 +34,6 @@ MOVES = {
     Kind.SAUCER: [(S.saucer, 0), (-S.saucer, 0), (0, 0)],
     Kind.CANNON: [(S.cannon, 0), (-S.cannon, 0), (0, 0)],
     Kind.BUNKER: [(0, 0)],
-}
-MASKS = {
-    Kind.SHOT: [art.mask_of(art.SHOT)],
-    Kind.BOMB: [m for masks in BOMB_MASKS.values() for m in masks],
-    Kind.ALIEN: [m for masks in ALIEN_MASKS for m in masks],
-    Kind.SAUCER: [art.mask_of(art.SAUCER)],
-    Kind.CANNON: [art.mask_of(art.CANNON)],
 }
 
 
