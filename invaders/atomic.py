@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import stat
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -16,6 +17,7 @@ def atomic_writer(path: str | os.PathLike[str], mode: str = "w") -> Iterator[IO]
     target = Path(path)
     folder = target.parent if str(target.parent) else Path(".")
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
+    _usual_permissions(fd)
     try:
         with os.fdopen(fd, mode, newline="" if "b" not in mode else None) as handle:
             yield handle
@@ -26,6 +28,14 @@ def atomic_writer(path: str | os.PathLike[str], mode: str = "w") -> Iterator[IO]
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
         raise
+
+
+def _usual_permissions(fd: int) -> None:
+    """mkstemp makes files private (0600); give them what a plain open() would."""
+    umask = os.umask(0)
+    os.umask(umask)
+    os.fchmod(fd, (stat.S_IRUSR | stat.S_IWUSR | stat.S_IRGRP | stat.S_IWGRP | stat.S_IROTH
+                   | stat.S_IWOTH) & ~umask)
 
 
 def write_atomic(path: str | os.PathLike[str], text: str) -> None:
@@ -41,6 +51,7 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[str]:
     target = Path(path)
     folder = target.parent if str(target.parent) else Path(".")
     fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=folder)
+    _usual_permissions(fd)
     os.close(fd)
     try:
         yield tmp

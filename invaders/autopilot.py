@@ -14,17 +14,35 @@ from invaders.sim.actions import Action
 from invaders.sim.entities import CannonState
 from invaders.sim.world import Phase, World
 
-DODGE_LOOKAHEAD = 72  # rows above the cannon in which a falling bomb is taken seriously
-DODGE_MARGIN = 9  # a bomb within this many columns of the cannon's centre will hit it
+DODGE_LOOKAHEAD_TICKS = 45  # bombs further than this from the cannon's rows are ignored
+CANNON_LIT = (2, 14)  # first and last lit column of the cannon's 16-px box
+DODGE_MARGIN = 2  # columns of room kept between a bomb and the cannon
 SHOT_TICKS_TO_LANE = 42  # ticks the shot needs from the barrel to the saucer lane
 
 
-class Autopilot:
-    """`actions(world)` -> this tick's input bits."""
+STYLES = {
+    # name: (chance to notice a bomb, fires at all, saves the 8th-of-15 shot for the saucer)
+    "hunter": (0.85, True, False),
+    "expert": (0.98, True, True),
+    "pacifist": (0.995, False, False),
+}
 
-    def __init__(self, seed: int, skill: float = 0.85) -> None:
-        self.rng = random.Random(f"autopilot:{seed}")
-        self.skill = skill
+
+class Autopilot:
+    """`actions(world)` -> this tick's input bits.
+
+    Styles: "hunter" shoots the lowest aliens and misses some bombs; "expert" dodges better
+    and keeps the shot that would score 300 for the saucer (the table's 8th of every 15);
+    "pacifist" only dodges, so the rack comes down and invades.
+    """
+
+    def __init__(self, seed: int, style: str = "hunter") -> None:
+        if style not in STYLES:
+            raise ValueError(f"unknown autopilot style {style!r} (choose from {', '.join(STYLES)})")
+        self.rng = random.Random(f"autopilot:{style}:{seed}" if style != "hunter"
+                                 else f"autopilot:{seed}")
+        self.style = style
+        self.skill, self.fires, self.saucer_trick = STYLES[style]
         self._fire_held = False
         self._noticed: dict[int, bool] = {}
         self._wander = 0
@@ -38,13 +56,10 @@ class Autopilot:
         if cannon.state is not CannonState.ACTIVE:
             return 0
         centre = cannon.x + 8
-        move = self._dodge(world, centre)
-        if move is None:
-            move = self._wandering()
-            if move is not None and not self._safe(world, centre + move):
-                move = 0
-        if move is None:
-            move = self._approach(world, centre)
+        wish = self._wandering()
+        if wish is None:
+            wish = self._approach(world, centre)
+        move = self._choose(world, self._threats(world), wish)
         bits = 0
         if move < 0:
             bits |= Action.LEFT
@@ -55,36 +70,58 @@ class Autopilot:
         self._fire_held = bool(bits & Action.FIRE)
         return int(bits)
 
-    def _danger(self, world: World) -> list[tuple[int, int]]:
-        """Cannon-centre intervals that noticed bombs, falling close above, will hit."""
-        zones = []
+    def _threats(self, world: World) -> list[tuple[int, int, float, float]]:
+        """Noticed bombs as (first lit column, last, ticks until they reach the cannon's
+        rows, ticks until they have passed them)."""
+        cannon = world.cannon
+        speeds = world.config.speeds
+        fast = world.rack.live <= speeds.bomb_fast_at
+        per_tick = (speeds.bomb_fast if fast else speeds.bomb) / 3
+        threats = []
         for slot in world.slots:
             bomb = slot.bomb
             if bomb is None:
                 continue
             if not self._noticed.setdefault(bomb.id, self.rng.random() < self.skill):
                 continue
-            above = world.cannon.y - (bomb.y + bomb.h)
-            if above <= DODGE_LOOKAHEAD and bomb.y < world.cannon.y + world.cannon.h:
-                zones.append((bomb.x + 1 - DODGE_MARGIN, bomb.x + 1 + DODGE_MARGIN))
+            if bomb.y >= cannon.y + cannon.h:
+                continue
+            # Bombs jump a whole step every third tick: arrive a step early, leave a step late,
+            # and a column of margin either side.
+            arrive = max(0.0, (cannon.y - (bomb.y + bomb.h)) / per_tick - 3)
+            if arrive > DODGE_LOOKAHEAD_TICKS:
+                continue
+            leave = (cannon.y + cannon.h - bomb.y) / per_tick + 3
+            threats.append((bomb.x - DODGE_MARGIN, bomb.x + bomb.w - 1 + DODGE_MARGIN,
+                            arrive, leave))
         if len(self._noticed) > 64:
             live = {s.bomb.id for s in world.slots if s.bomb is not None}
             self._noticed = {k: v for k, v in self._noticed.items() if k in live}
-        return zones
+        return threats
 
-    def _dodge(self, world: World, centre: int) -> int | None:
-        """Step out of a noticed bomb's path (towards the nearer side with room)."""
+    def _first_hit(self, world: World, threats, direction: int) -> float:
+        """Ticks until a threat would hit the cannon if it held `direction`; inf if never."""
         g = world.config.geometry
-        for low, high in self._danger(world):
-            if low <= centre <= high:
-                left_room = world.cannon.x > g.cannon_min_x
-                right_room = world.cannon.x < g.cannon_max_x
-                go_left = (centre - low <= high - centre and left_room) or not right_room
-                return -1 if go_left else 1
-        return None
+        x0 = world.cannon.x
+        first = float("inf")
+        for left, right, arrive, leave in threats:
+            xa = min(max(x0 + direction * int(arrive), g.cannon_min_x), g.cannon_max_x)
+            xb = min(max(x0 + direction * int(leave + 1), g.cannon_min_x), g.cannon_max_x)
+            lo, hi = min(xa, xb) + CANNON_LIT[0], max(xa, xb) + CANNON_LIT[1]
+            if left <= hi and lo <= right:
+                first = min(first, arrive)
+        return first
 
-    def _safe(self, world: World, centre: int) -> bool:
-        return all(not low <= centre <= high for low, high in self._danger(world))
+    def _choose(self, world: World, threats, wish: int) -> int:
+        """The wished move if it stays clear of every noticed bomb; else the safest move."""
+        if not threats:
+            return wish
+        options = list(dict.fromkeys((wish, 0, -1, 1)))
+        times = {d: self._first_hit(world, threats, d) for d in options}
+        for d in options:
+            if times[d] == float("inf"):
+                return d
+        return max(options, key=lambda d: times[d])
 
     def _wandering(self) -> int | None:
         """Now and then drift for a while, so games differ by seed."""
@@ -118,11 +155,15 @@ class Autopilot:
         target = self._target_x(world)
         if target is None or abs(target - centre) <= 1:
             return 0
-        step = 1 if target > centre else -1
-        return step if self._safe(world, centre + step) else 0
+        return 1 if target > centre else -1
 
     def _want_fire(self, world: World, centre: int) -> bool:
-        if self._fire_held or world.shot is not None:
+        if not self.fires or self._fire_held or world.shot is not None:
+            return False
+        # The next shot would score 300 on the saucer: keep it for the saucer, and fire it
+        # only up a column that no alien or shield blocks.
+        if self.saucer_trick and world.shots_removed % 15 == 7 and (
+                world.saucer.saucer is None or not _clear_column(world, centre)):
             return False
         target = self._target_x(world)
         if target is None:
@@ -133,6 +174,13 @@ class Autopilot:
         if fire:
             self._through_shields = self.rng.random() < 0.15
         return fire
+
+
+def _clear_column(world: World, x: int) -> bool:
+    """Whether a shot fired up column x would meet neither an alien nor a shield."""
+    if _under_shield(world, x):
+        return False
+    return all(not alien.x <= x < alien.x + alien.w for alien in world.rack.live_aliens())
 
 
 def _under_shield(world: World, x: int) -> bool:

@@ -8,6 +8,7 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from invaders import __version__
+from invaders.autopilot import STYLES
 from invaders.collision.broadphase import BROADPHASES
 
 MAX_TICKS = 100_000_000
@@ -52,15 +53,28 @@ def build_parser() -> Parser:
                       help="run headless for --ticks with the autopilot, save the window as PNG")
     play.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=600)
     play.add_argument("--overlay", action="store_true", help="start with the debug overlay on")
+    play.add_argument("--record", metavar="FILE", help="record the game as a replay (JSON)")
+    play.add_argument("--replay", metavar="FILE", help="watch a replay instead of playing")
+    play.add_argument("--speed", type=_int_in("--speed", 1, 64), default=1,
+                      help="replay speed multiplier")
 
     run = sub.add_parser("run", help="run headless and print a summary and the state hash")
     run.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=3600)
     run.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0)
-    run.add_argument("--autopilot", action="store_true", help="let the built-in player play")
+    run.add_argument("--autopilot", nargs="?", const="hunter", choices=sorted(STYLES),
+                     metavar="STYLE",
+                     help="let the built-in player play: hunter (default), expert, pacifist")
     run.add_argument("--broadphase", choices=BROADPHASES, default="grid")
     run.add_argument("--cell", type=_int_in("--cell", 1, 1024), default=16,
                      help="grid cell size in px")
     run.add_argument("--report", metavar="FILE", help="per-tick counters, .csv or .jsonl")
+    run.add_argument("--record", metavar="FILE", help="save the run as a replay (JSON)")
+
+    check = sub.add_parser("replay", help="run replays headless and check their checkpoints")
+    check.add_argument("paths", nargs="+", metavar="PATH", help="replay files or folders")
+    check.add_argument("--update", action="store_true",
+                       help="rewrite the expected checkpoints (after an intended rule change)")
+    check.add_argument("--broadphase", choices=BROADPHASES, default="grid")
 
     bench = sub.add_parser("bench", help="time the pipeline against references, as ratios")
     bench.add_argument("--ticks", type=_int_in("--ticks", 60, MAX_TICKS), default=3600)
@@ -85,16 +99,36 @@ def cmd_run(args: argparse.Namespace) -> int:
         except ValueError as err:
             raise UsageError(str(err)) from None
     world = World(seed=args.seed, detector=make_detector(args.broadphase, args.cell))
-    source = Autopilot(args.seed) if args.autopilot else Idle()
+    source = Autopilot(args.seed, args.autopilot) if args.autopilot else Idle()
+    recorder = None
+    if args.record is not None:
+        from invaders.replay import Recorder
+
+        _check_writable(args.record, "replay")
+        recorder = Recorder(world, args.record, save_every=3600)
     try:
-        result = run(world, source, args.ticks, args.report)
+        result = run(world, source, args.ticks, args.report, recorder)
     except OSError as err:
         raise UsageError(f"cannot write report {args.report!r}: {err.strerror}") from None
-    name = "autopilot" if args.autopilot else "none"
+    finally:
+        if recorder is not None:
+            recorder.save()
+    name = f"autopilot {args.autopilot}" if args.autopilot else "none"
     for line in summary_lines(result, args.seed, args.broadphase, name):
         print(line)
     print(world.state_hash())
     return 0
+
+
+def _check_writable(path: str, what: str) -> None:
+    """Fail early, in one line, if a file cannot be written where asked."""
+    import os
+
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise UsageError(f"cannot write {what} {path!r}: no such folder")
+    if os.path.isdir(path):
+        raise UsageError(f"cannot write {what} {path!r}: it is a folder")
 
 
 def cmd_play(args: argparse.Namespace) -> int:
@@ -103,8 +137,30 @@ def cmd_play(args: argparse.Namespace) -> int:
     if args.screenshot:
         return screenshot(args.screenshot, seed=args.seed, ticks=args.ticks, scale=args.scale,
                           overlay=args.overlay, broadphase=args.broadphase)
-    return play(seed=args.seed, scale=args.scale, broadphase=args.broadphase,
-                overlay=args.overlay)
+    replay = None
+    if args.replay:
+        from invaders.replay import ReplayError, load
+
+        try:
+            replay = load(args.replay)
+        except ReplayError as err:
+            raise UsageError(f"{args.replay}: {err}") from None
+    if args.record:
+        _check_writable(args.record, "replay")
+    try:
+        return play(seed=args.seed, scale=args.scale, broadphase=args.broadphase,
+                    overlay=args.overlay, record=args.record, replay=replay, speed=args.speed)
+    except KeyboardInterrupt:
+        return 130
+
+
+def cmd_replay(args: argparse.Namespace) -> int:
+    from invaders.headless import use_dummy_drivers
+
+    use_dummy_drivers()
+    from invaders.replay_check import check_all
+
+    return check_all(args.paths, update=args.update, broadphase=args.broadphase)
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
@@ -116,7 +172,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
     return bench(ticks=args.ticks, seed=args.seed, repeat=args.repeat)
 
 
-COMMANDS = {"run": cmd_run, "play": cmd_play, "bench": cmd_bench}
+COMMANDS = {"run": cmd_run, "play": cmd_play, "bench": cmd_bench, "replay": cmd_replay}
 
 
 def main(argv: Sequence[str] | None = None) -> int:

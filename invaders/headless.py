@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from invaders.atomic import atomic_writer
+from invaders.replay import Recorder
 from invaders.report import CounterTable, ReportWriter, report_format
 from invaders.sim.world import World
 
@@ -36,13 +37,18 @@ class RunResult:
     events: Counter = field(default_factory=Counter)
 
 
-def run(world: World, source: InputSource, ticks: int, report: str | None = None) -> RunResult:
-    """Step `world` `ticks` times with `source`'s input; optionally write the per-tick report."""
+def run(world: World, source: InputSource, ticks: int, report: str | None = None,
+        recorder: Recorder | None = None) -> RunResult:
+    """Step `world` `ticks` times with `source`'s input; optionally write the per-tick report
+    and record the run as a replay."""
     table = CounterTable(ticks)
     events: Counter = Counter()
     if report is None:
         for _ in range(ticks):
-            result = world.step(source.actions(world))
+            bits = source.actions(world)
+            result = world.step(bits)
+            if recorder is not None:
+                recorder.tick(bits)
             table.add(result.stats)
             if result.events:
                 events.update(e.name for e in result.events)
@@ -51,7 +57,10 @@ def run(world: World, source: InputSource, ticks: int, report: str | None = None
     with atomic_writer(report) as handle:
         writer = ReportWriter(handle, fmt)
         for _ in range(ticks):
-            result = world.step(source.actions(world))
+            bits = source.actions(world)
+            result = world.step(bits)
+            if recorder is not None:
+                recorder.tick(bits)
             table.add(result.stats)
             names = tuple(e.name for e in result.events)
             events.update(names)

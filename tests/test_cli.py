@@ -35,7 +35,7 @@ def test_a_one_minute_autopilot_run_writes_3600_rows_and_the_grid_prunes(tmp_pat
     assert [int(r["tick"]) for r in rows] == list(range(3600))
     candidates = statistics.median(int(r["candidates"]) for r in rows)
     naive = statistics.median(int(r["naive_pairs"]) for r in rows)
-    assert naive > 1000
+    assert naive > 500  # dozens of bodies on screen
     assert candidates <= 0.02 * naive
     assert sum(int(r["contacts"]) for r in rows) > 50  # the game really played
     assert not list(tmp_path.glob(".*.tmp"))  # no temporary file left behind

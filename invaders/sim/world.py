@@ -112,6 +112,15 @@ class World:
             del self.by_id[body.id]
             self.dirty.append(body)
 
+    @property
+    def next_id_value(self) -> int:
+        """The id the next body will get (part of the state: ids order the contacts)."""
+        return self._next_id
+
+    def kind_counts(self) -> dict[str, int]:
+        """Live collidable bodies per kind, by name (what replays compare first)."""
+        return {kind.name.lower(): len(bodies) for kind, bodies in self.by_kind.items()}
+
     def bodies(self, kind: Kind) -> list[Body]:
         """Live bodies of a kind, in id order."""
         return self.by_kind[kind]
