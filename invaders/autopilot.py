@@ -20,11 +20,14 @@ DODGE_MARGIN = 2  # columns of room kept between a bomb and the cannon
 SHOT_TICKS_TO_LANE = 42  # ticks the shot needs from the barrel to the saucer lane
 
 
+ALL_COLUMNS = frozenset(range(11))
+CORRIDOR = 5  # the column a defender clears, then hides under
 STYLES = {
-    # name: (chance to notice a bomb, fires at all, saves the 8th-of-15 shot for the saucer)
-    "hunter": (0.85, True, False),
-    "expert": (0.98, True, True),
-    "pacifist": (0.995, False, False),
+    # name: (chance to notice a bomb, rack columns it shoots at, keeps the 300 shot for saucers)
+    "hunter": (0.85, ALL_COLUMNS, False),
+    "expert": (0.98, ALL_COLUMNS, True),
+    "defender": (0.995, frozenset({CORRIDOR}), False),
+    "pacifist": (0.995, frozenset(), False),
 }
 
 
@@ -33,7 +36,8 @@ class Autopilot:
 
     Styles: "hunter" shoots the lowest aliens and misses some bombs; "expert" dodges better
     and keeps the shot that would score 300 for the saucer (the table's 8th of every 15);
-    "pacifist" only dodges, so the rack comes down and invades.
+    "defender" clears one column and then hides under the gap it made (no bomb falls from an
+    empty column), so the rest of the rack comes down and invades; "pacifist" only dodges.
     """
 
     def __init__(self, seed: int, style: str = "hunter") -> None:
@@ -42,7 +46,7 @@ class Autopilot:
         self.rng = random.Random(f"autopilot:{style}:{seed}" if style != "hunter"
                                  else f"autopilot:{seed}")
         self.style = style
-        self.skill, self.fires, self.saucer_trick = STYLES[style]
+        self.skill, self.columns, self.saucer_trick = STYLES[style]
         self._fire_held = False
         self._noticed: dict[int, bool] = {}
         self._wander = 0
@@ -134,16 +138,15 @@ class Autopilot:
         return None
 
     def _target_x(self, world: World) -> int | None:
+        targets = [a for a in world.rack.live_aliens() if a.col in self.columns]
+        if not targets:
+            return _hiding_place(world)
         ship = world.saucer.saucer
         if ship is not None:
             lead = ship.dx * SHOT_TICKS_TO_LANE // 3
             return ship.x + 12 + lead
-        rack = world.rack
         best = None
-        for col in range(world.config.geometry.cols):
-            alien = rack.lowest_in_column(col)
-            if alien is None:
-                continue
+        for alien in targets:
             x = alien.x + 8
             blocked = _under_shield(world, x) and not self._through_shields
             key = (blocked, -alien.top, abs(x - world.cannon.x - 8))
@@ -158,8 +161,10 @@ class Autopilot:
         return 1 if target > centre else -1
 
     def _want_fire(self, world: World, centre: int) -> bool:
-        if not self.fires or self._fire_held or world.shot is not None:
+        if self._fire_held or world.shot is not None:
             return False
+        if not any(a.col in self.columns for a in world.rack.live_aliens()):
+            return False  # nothing it is willing to shoot at: it is hiding
         # The next shot would score 300 on the saucer: keep it for the saucer, and fire it
         # only up a column that no alien or shield blocks.
         if self.saucer_trick and world.shots_removed % 15 == 7 and (
@@ -174,6 +179,23 @@ class Autopilot:
         if fire:
             self._through_shields = self.rng.random() < 0.15
         return fire
+
+
+def _hiding_place(world: World) -> int:
+    """Where a cannon that no longer fires is safest: under an emptied column of the rack if
+    there is one (nothing falls from it), else beside the rack, on the side it is not."""
+    g = world.config.geometry
+    aliens = world.rack.live_aliens()
+    if aliens and world.rack.lowest_in_column(CORRIDOR) is None:
+        x = world.rack.ref_x + g.cell * CORRIDOR + 8
+        if g.cannon_min_x + 8 <= x <= g.cannon_max_x + 8:
+            return x
+    left = min((a.x for a in aliens), default=g.cannon_min_x)
+    right = max((a.x + a.w for a in aliens), default=g.cannon_max_x)
+    room_left, room_right = left - g.cannon_min_x, g.cannon_max_x + 16 - right
+    if room_right >= room_left:
+        return g.cannon_max_x + 8
+    return g.cannon_min_x + 8
 
 
 def _clear_column(world: World, x: int) -> bool:
