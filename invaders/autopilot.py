@@ -52,6 +52,10 @@ class Autopilot:
         self._wander = 0
         self._wander_dir = 0
         self._through_shields = False  # re-rolled at each shot: now and then shoot a shield
+        self._shields = ShieldColumns()
+        self._target_tick = -1
+        self._target: int | None = None
+        self._has_targets = False
 
     def actions(self, world: World) -> int:
         if world.phase is Phase.GAME_OVER:
@@ -138,7 +142,21 @@ class Autopilot:
         return None
 
     def _target_x(self, world: World) -> int | None:
-        targets = [a for a in world.rack.live_aliens() if a.col in self.columns]
+        """Where to put the cannon's centre this tick (worked out once per tick)."""
+        if self._target_tick != world.tick:
+            self._target_tick = world.tick
+            self._target = self._find_target(world)
+        return self._target
+
+    def _shootable(self, world: World) -> list:
+        """The lowest live alien of each column this style shoots at."""
+        rack = world.rack
+        found = (rack.lowest_in_column(col) for col in self.columns)
+        return [alien for alien in found if alien is not None]
+
+    def _find_target(self, world: World) -> int | None:
+        targets = self._shootable(world)
+        self._has_targets = bool(targets)
         if not targets:
             return _hiding_place(world)
         ship = world.saucer.saucer
@@ -146,9 +164,10 @@ class Autopilot:
             lead = ship.dx * SHOT_TICKS_TO_LANE // 3
             return ship.x + 12 + lead
         best = None
+        shields = self._shields
         for alien in targets:
             x = alien.x + 8
-            blocked = _under_shield(world, x) and not self._through_shields
+            blocked = shields.covers(world, x) and not self._through_shields
             key = (blocked, -alien.top, abs(x - world.cannon.x - 8))
             if best is None or key < best[0]:
                 best = (key, x)
@@ -163,22 +182,48 @@ class Autopilot:
     def _want_fire(self, world: World, centre: int) -> bool:
         if self._fire_held or world.shot is not None:
             return False
-        if not any(a.col in self.columns for a in world.rack.live_aliens()):
+        target = self._target_x(world)
+        if target is None or not self._has_targets:
             return False  # nothing it is willing to shoot at: it is hiding
         # The next shot would score 300 on the saucer: keep it for the saucer, and fire it
         # only up a column that no alien or shield blocks.
         if self.saucer_trick and world.shots_removed % 15 == 7 and (
-                world.saucer.saucer is None or not _clear_column(world, centre)):
+                world.saucer.saucer is None or not self._clear_column(world, centre)):
             return False
-        target = self._target_x(world)
-        if target is None:
-            return False
-        if _under_shield(world, centre) and not self._through_shields:
+        if self._shields.covers(world, centre) and not self._through_shields:
             return False
         fire = abs(target - centre) <= 3 or self.rng.random() < 0.02
         if fire:
             self._through_shields = self.rng.random() < 0.15
         return fire
+
+    def _clear_column(self, world: World, x: int) -> bool:
+        """Whether a shot fired up column x would meet neither an alien nor a shield."""
+        if self._shields.covers(world, x):
+            return False
+        return all(not alien.x <= x < alien.x + alien.w for alien in world.rack.live_aliens())
+
+
+class ShieldColumns:
+    """Which screen columns still have shield pixels, recomputed only when a shield changes."""
+
+    def __init__(self) -> None:
+        self._seen: dict[int, tuple[int, frozenset[int]]] = {}
+
+    def covers(self, world: World, x: int) -> bool:
+        for bunker in world.bunkers:
+            if bunker.x <= x < bunker.x + bunker.w:
+                return x in self._columns(bunker)
+        return False
+
+    def _columns(self, bunker) -> frozenset[int]:
+        count = bunker.mask.count()
+        seen = self._seen.get(bunker.id)
+        if seen is None or seen[0] != count:
+            lit = frozenset(bunker.x + cx for cx in range(bunker.w)
+                            if any(bunker.mask.get_at((cx, cy)) for cy in range(bunker.h)))
+            seen = self._seen[bunker.id] = (count, lit)
+        return seen[1]
 
 
 def _hiding_place(world: World) -> int:
@@ -196,18 +241,3 @@ def _hiding_place(world: World) -> int:
     if room_right >= room_left:
         return g.cannon_max_x + 8
     return g.cannon_min_x + 8
-
-
-def _clear_column(world: World, x: int) -> bool:
-    """Whether a shot fired up column x would meet neither an alien nor a shield."""
-    if _under_shield(world, x):
-        return False
-    return all(not alien.x <= x < alien.x + alien.w for alien in world.rack.live_aliens())
-
-
-def _under_shield(world: World, x: int) -> bool:
-    """Whether a shield pixel stands in column x above the cannon."""
-    for bunker in world.bunkers:
-        if bunker.x <= x < bunker.x + bunker.w:
-            return any(bunker.mask.get_at((x - bunker.x, y)) for y in range(bunker.h))
-    return False
