@@ -118,11 +118,23 @@ class Grid:
     def cell_range(self, body: Body, is_swept: bool, tick: int) -> tuple[int, int, int, int]:
         """Cells (cx0, cy0, cx1, cy1) covered by the body's box, swept over the tick if asked."""
         c = self.cell
-        x0, y0, x1, y1 = body.x, body.y, body.x + body.w, body.y + body.h
-        if is_swept and body.moved_tick == tick:
-            px, py = body.px, body.py
-            x0, y0 = min(x0, px), min(y0, py)
-            x1, y1 = max(x1, px + body.w), max(y1, py + body.h)
+        x0 = body.x
+        y0 = body.y
+        w = body.w
+        h = body.h
+        x1 = x0 + w
+        y1 = y0 + h
+        if is_swept and body.moved_tick == tick:  # comparisons: cheaper than min() and max()
+            px = body.px
+            py = body.py
+            if px < x0:
+                x0 = px
+            elif px + w > x1:
+                x1 = px + w
+            if py < y0:
+                y0 = py
+            elif py + h > y1:
+                y1 = py + h
         return x0 // c, y0 // c, (x1 - 1) // c, (y1 - 1) // c
 
     def _update(self, body: Body, is_swept: bool, tick: int) -> None:
@@ -132,13 +144,7 @@ class Grid:
                 self._unbin(body, old)
                 del self.ranges[body.id]
             return
-        c = self.cell
-        x0, y0, x1, y1 = body.x, body.y, body.x + body.w, body.y + body.h
-        if is_swept and body.moved_tick == tick:  # as cell_range, inlined: this runs a lot
-            px, py = body.px, body.py
-            x0, y0 = min(x0, px), min(y0, py)
-            x1, y1 = max(x1, px + body.w), max(y1, py + body.h)
-        new = (x0 // c, y0 // c, (x1 - 1) // c, (y1 - 1) // c)
+        new = self.cell_range(body, is_swept, tick)
         if new == old:
             return
         if old is not None:

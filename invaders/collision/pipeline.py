@@ -37,20 +37,27 @@ class Detector:
         self.swept = swept_kinds(rules)
         self.kinds = KindSets(self.swept, probed_kinds(rules))
         self._table = tuple((rule, rule.a, rule.b, rule.zone) for rule in rules)
+        self._plans: dict[int, tuple] = {}  # kinds present (bit mask) -> entries that apply
         self.last_pairs: Sequence[tuple[int, int]] = ()  # last tick's candidates, for overlays
 
     def detect(self, scene: Scene) -> tuple[list[Contact], CollisionStats]:
         by_kind = scene.by_kind
-        n = sum(map(len, by_kind.values()))
+        n = 0
+        present = 0
+        for kind, bodies in by_kind.items():
+            if bodies:
+                n += len(bodies)
+                present |= 1 << kind
+        plan = self._plans.get(present)
+        if plan is None:
+            plan = self._plans[present] = tuple(
+                entry for entry in self._table
+                if present >> entry[1] & 1 and present >> entry[2] & 1)
         groups: list[Group] = []
         allowed = 0
-        for rule, kind_a, kind_b, zone in self._table:
+        for rule, kind_a, kind_b, zone in plan:
             side_a: Sequence[Body] = by_kind[kind_a]
-            if not side_a:
-                continue
             side_b: Sequence[Body] = by_kind[kind_b]
-            if not side_b:
-                continue
             if zone is not None:
                 side_a = [body for body in side_a if _in_zone(body, zone)]
                 side_b = [body for body in side_b if _in_zone(body, zone)]
