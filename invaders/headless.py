@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections import Counter
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Protocol
 
@@ -40,29 +42,29 @@ class RunResult:
 def run(world: World, source: InputSource, ticks: int, report: str | None = None,
         recorder: Recorder | None = None) -> RunResult:
     """Step `world` `ticks` times with `source`'s input; optionally write the per-tick report
-    and record the run as a replay."""
+    (atomically: the file appears whole when the run ends) and record the run as a replay."""
     table = CounterTable(ticks)
     events: Counter = Counter()
-    if report is None:
+    with _report(report) as writer:
         for _ in range(ticks):
             bits = source.actions(world)
             result = world.step(bits)
             if recorder is not None:
                 recorder.tick(bits)
             table.add(result.stats)
-            if result.events:
-                events.update(e.name for e in result.events)
-        return RunResult(world, table, events)
-    fmt = report_format(report)
-    with atomic_writer(report) as handle:
-        writer = ReportWriter(handle, fmt)
-        for _ in range(ticks):
-            bits = source.actions(world)
-            result = world.step(bits)
-            if recorder is not None:
-                recorder.tick(bits)
-            table.add(result.stats)
-            names = tuple(e.name for e in result.events)
-            events.update(names)
-            writer.row(result.tick, result.stats, names)
+            names = tuple(e.name for e in result.events) if result.events else ()
+            if names:
+                events.update(names)
+            if writer is not None:
+                writer.row(result.tick, result.stats, names)
     return RunResult(world, table, events)
+
+
+@contextlib.contextmanager
+def _report(path: str | None) -> Iterator[ReportWriter | None]:
+    if path is None:
+        yield None
+        return
+    fmt = report_format(path)
+    with atomic_writer(path) as handle:
+        yield ReportWriter(handle, fmt)
