@@ -1,0 +1,75 @@
+"""The oracle: the true contacts of a tick, by brute force.
+
+Every pair of bodies whose kinds can interact is tested with pixel masks at every pixel of
+the pair's relative motion during the tick (nothing moves more than one pixel between two
+tests), except the entries whose outcome is defined by where things land (an alien's draw
+footprint), which are tested where they land. It shares no code path with the pipeline's
+broad phases or its choice of tests, only the pixel primitives, so it can score them.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+from invaders.collision.body import Body, Kind
+from invaders.collision.broadphase import Scene
+from invaders.collision.predicates import solid_mask, substeps
+from invaders.collision.rules import POSITIONAL, RULES, PairRule, Shape
+
+
+class TrueContact(NamedTuple):
+    """A pair that touched during the tick, and how far into the tick it first touched."""
+
+    a_id: int
+    b_id: int
+    step: int  # first substep that touched
+    steps: int  # substeps in the tick for this pair (0: tested where they landed)
+
+
+def _mask(body: Body, shape: Shape):
+    return body.mask if shape is Shape.MASK else solid_mask(body.w, body.h)
+
+
+def _start(body: Body, tick: int) -> tuple[int, int]:
+    return (body.px, body.py) if body.moved_tick == tick else (body.x, body.y)
+
+
+def pair_contact(a: Body, b: Body, rule: PairRule, tick: int) -> TrueContact | None:
+    """The first pixel-exact touch of a and b during the tick (a's id below b's)."""
+    a_mask = _mask(a, rule.shape_of(a.kind))
+    b_mask = _mask(b, rule.shape_of(b.kind))
+    if frozenset({a.kind, b.kind}) in POSITIONAL:
+        hit = a_mask.overlap(b_mask, (b.x - a.x, b.y - a.y))
+        return None if hit is None else TrueContact(a.id, b.id, 0, 0)
+    ax0, ay0 = _start(a, tick)
+    bx0, by0 = _start(b, tick)
+    ox, oy = bx0 - ax0, by0 - ay0
+    dx = (b.x - bx0) - (a.x - ax0)
+    dy = (b.y - by0) - (a.y - ay0)
+    # A box around every position of the motion: nothing outside it can touch.
+    left, top = ox + min(0, dx), oy + min(0, dy)
+    if not (left < a.w and left + b.w + abs(dx) > 0 and top < a.h and top + b.h + abs(dy) > 0):
+        return None
+    path = substeps(dx, dy)
+    for i, (sx, sy) in enumerate(path):
+        if a_mask.overlap(b_mask, (ox + sx, oy + sy)) is not None:
+            return TrueContact(a.id, b.id, i, len(path) - 1)
+    return None
+
+
+def true_contacts(scene: Scene, rules: tuple[PairRule, ...] = RULES) -> list[TrueContact]:
+    """All true contacts of the scene's tick, sorted by (low id, high id)."""
+    by_kind = scene.by_kind
+    found = []
+    for rule in rules:
+        for a in by_kind[rule.a]:
+            for b in by_kind[rule.b]:
+                low, high = (a, b) if a.id < b.id else (b, a)
+                contact = pair_contact(low, high, rule, scene.tick)
+                if contact is not None:
+                    found.append(contact)
+    found.sort()
+    return found
+
+
+KINDS = tuple(Kind)

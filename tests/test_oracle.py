@@ -1,0 +1,74 @@
+"""The oracle, and shadow scoring against it: where cheaper methods fail and ours holds."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from invaders import art
+from invaders.collision.body import Body, Kind
+from invaders.collision.broadphase import Brute
+from invaders.collision.pipeline import Detector, make_detector
+from invaders.collision.rules import RULES, Motion, PairRule, Shape
+from invaders.replay import load
+from invaders.sim.world import World
+from invaders.study.oracle import true_contacts
+from invaders.study.shadow import ShadowDetector
+from tests.helpers import Scene
+
+REPLAYS = sorted((Path(__file__).resolve().parents[1] / "replays").glob("*.json"))
+DISCRETE = tuple(PairRule(r.a, r.b, r.a_shape, r.b_shape, Motion.DISCRETE, r.zone, r.reason)
+                 for r in RULES)
+RECT_ONLY = tuple(PairRule(r.a, r.b, Shape.BOX, Shape.BOX, r.motion, r.zone, r.reason)
+                  for r in RULES)
+
+
+def _shadow(path: Path, detector: Detector):
+    replay = load(path)
+    shadow = ShadowDetector(detector)
+    world = World(replay.seed, replay.config, detector=shadow)  # type: ignore[arg-type]
+    for bits in replay.actions():
+        world.step(bits)
+    return shadow.finish()
+
+
+@pytest.mark.parametrize("path", REPLAYS, ids=lambda p: p.stem)
+def test_the_default_pipeline_matches_the_oracle_on_every_replay(path):
+    score = _shadow(path, make_detector("grid"))
+    assert score.true > 30
+    assert (score.missed, score.false, score.late) == (0, 0, 0), score.examples
+
+
+def test_discrete_tests_are_late_or_miss_in_real_games():
+    names = {"cannon-death", "shields-eroded"}
+    scores = [_shadow(p, Detector(Brute(), DISCRETE)) for p in REPLAYS if p.stem in names]
+    assert sum(s.late + s.missed for s in scores) >= 2
+    assert all(s.false == 0 for s in scores)  # discrete is never wrong, only late or blind
+
+
+def test_rect_tests_report_false_contacts_in_the_shield_arch_and_alien_corners():
+    bunker = Body(1, Kind.BUNKER, 100, 100, art.fresh_mask(art.BUNKER))
+    in_arch = Body(2, Kind.SHOT, 110, 112, art.mask_of(art.SHOT))  # rows 12-15, cols 7-13 empty
+    from invaders.sim.entities import ALIEN_MASKS
+
+    alien = Body(3, Kind.ALIEN, 20, 20, ALIEN_MASKS[4][0])  # 8-px-wide picture in a 16-px box
+    in_corner = Body(4, Kind.SHOT, 21, 28, art.mask_of(art.SHOT))  # box col 1: empty
+    scene = Scene([bunker, in_arch, alien, in_corner])
+    rect, _ = Detector(Brute(), RECT_ONLY).detect(scene)
+    masks, _ = Detector(Brute()).detect(scene)
+    assert {(c.a_id, c.b_id) for c in rect} == {(1, 2), (3, 4)}
+    assert masks == [] == true_contacts(scene)
+
+
+def test_the_oracle_finds_the_first_substep_of_a_swept_touch():
+    bomb = Body(1, Kind.BOMB, 50, 60, art.mask_of(art.BOMB_PLUNGER[0]))
+    shot = Body(2, Kind.SHOT, 51, 80, art.mask_of(art.SHOT))
+    for body, dy in ((bomb, 5), (shot, -12)):
+        body.px, body.py, body.moved_tick = body.x, body.y, 7
+        body.y += dy
+    (contact,) = true_contacts(Scene([bomb, shot], tick=7))
+    # They close 17 px. The shot's top starts 20 rows below the bomb's top and touches the
+    # plunger's lowest lit row (7) once it has come up 13 of them.
+    assert (contact.a_id, contact.b_id, contact.steps) == (1, 2, 17)
+    assert contact.step == (80 - 60) - 7
