@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from invaders import art
 from invaders.autopilot import Autopilot
 from invaders.collision.body import Body, Kind
-from invaders.collision.broadphase import Brute, Grid
+from invaders.collision.broadphase import Brute, Grid, SortAndSweep
 from invaders.collision.pipeline import Detector
 from invaders.sim.world import World
 from tests.helpers import SHARED_MASKS, Scene, active_world
@@ -52,22 +52,25 @@ def test_grid_and_brute_give_identical_contacts_in_identical_order(bodies, cell)
     brute_contacts, brute_stats = Detector(Brute()).detect(scene)
     grid_contacts, grid_stats = Detector(Grid(cell)).detect(scene)
     assert grid_contacts == brute_contacts
+    sweep_contacts, sweep_stats = Detector(SortAndSweep()).detect(scene)
+    assert sweep_contacts == brute_contacts
+    assert sweep_stats.candidates <= brute_stats.candidates
     assert [(c.a_id, c.b_id) for c in grid_contacts] == sorted(
         (c.a_id, c.b_id) for c in grid_contacts)
     assert grid_stats.allowed_pairs == brute_stats.allowed_pairs
     assert grid_stats.candidates <= brute_stats.candidates
 
 
-def test_grid_and_brute_agree_tick_by_tick_in_a_game():
-    worlds = [World(seed=11, detector=Detector(b)) for b in (Grid(), Brute())]
-    pilots = [Autopilot(11), Autopilot(11)]
+def test_every_broad_phase_agrees_tick_by_tick_in_a_game():
+    worlds = [World(seed=11, detector=Detector(b)) for b in (Grid(), Brute(), SortAndSweep())]
+    pilots = [Autopilot(11) for _ in worlds]
     contacts = 0
     for _ in range(4000):
         reports = [w.step(p.actions(w)) for w, p in zip(worlds, pilots, strict=True)]
-        assert reports[0].contacts == reports[1].contacts
+        assert reports[0].contacts == reports[1].contacts == reports[2].contacts
         contacts += len(reports[0].contacts)
     assert contacts > 50
-    assert worlds[0].state_hash() == worlds[1].state_hash()
+    assert worlds[0].state_hash() == worlds[1].state_hash() == worlds[2].state_hash()
 
 
 def test_static_bodies_stay_binned_and_movers_rebin_only_when_cells_change():

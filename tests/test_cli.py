@@ -50,6 +50,7 @@ def test_the_hash_depends_on_the_seed_only_not_on_the_broad_phase(capsys):
     grid = last("--seed", "7")
     assert last("--seed", "7") == grid
     assert last("--seed", "7", "--broadphase", "brute") == grid
+    assert last("--seed", "7", "--broadphase", "sweep") == grid
     assert last("--seed", "7", "--cell", "40") == grid
     assert last("--seed", "8") != grid
 
