@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import sys
 import time
-from pathlib import Path
 
 from invaders.replay import ReplayError, load, replay_paths, run
 
@@ -47,8 +46,3 @@ def check_all(args: list[str], update: bool = False, broadphase: str = "grid") -
         print(f"{changed} of {len(paths)} replay files changed")
     return worst
 
-
-def describe(path: str | Path) -> str:
-    """One line about a replay file, for listings."""
-    replay = load(path)
-    return f"{path}: seed {replay.seed}, {replay.ticks} ticks, recorded by {replay.program}"

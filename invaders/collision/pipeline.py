@@ -11,12 +11,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from invaders.collision import predicates
-from invaders.collision.body import ERODIBLE, Body, Kind
+from invaders.collision.body import ERODIBLE, Body
 from invaders.collision.broadphase import BroadPhase, Group, KindSets, Scene, make_broadphase
 from invaders.collision.rules import RULES, Motion, PairRule, Shape, probed_kinds, swept_kinds
 from invaders.collision.stats import CollisionStats, Contact
-
-KINDS = tuple(Kind)
 
 
 def _in_zone(body: Body, zone: tuple[int, int, int, int]) -> bool:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from invaders.collision.body import Body, Kind
+from invaders.collision.body import Body
 from invaders.collision.broadphase import Scene
 from invaders.collision.predicates import solid_mask, substeps
 from invaders.collision.rules import POSITIONAL, RULES, PairRule, Shape
@@ -71,5 +71,3 @@ def true_contacts(scene: Scene, rules: tuple[PairRule, ...] = RULES) -> list[Tru
     found.sort()
     return found
 
-
-KINDS = tuple(Kind)
