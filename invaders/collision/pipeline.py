@@ -104,7 +104,8 @@ class Detector:
         ox, oy = bpx - apx, bpy - apy  # b relative to a at the tick's start
         dx = (b.x - bpx) - (a.x - apx)
         dy = (b.y - bpy) - (a.y - apy)
-        # The quick test: b's box swept from (ox, oy) by (dx, dy) against a's box at the origin.
+        # The quick test, predicates.swept_box_overlap inlined (this is the hot path): b's box
+        # swept from (ox, oy) by (dx, dy) against a's box at the origin.
         sx0 = ox + dx if dx < 0 else ox
         sy0 = oy + dy if dy < 0 else oy
         if not (sx0 < a.w and sx0 + b.w + abs(dx) > 0 and sy0 < a.h and sy0 + b.h + abs(dy) > 0):

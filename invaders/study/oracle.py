@@ -13,7 +13,7 @@ from typing import NamedTuple
 
 from invaders.collision.body import Body
 from invaders.collision.broadphase import Scene
-from invaders.collision.predicates import solid_mask, substeps
+from invaders.collision.predicates import solid_mask, substeps, swept_box_overlap
 from invaders.collision.rules import POSITIONAL, RULES, PairRule, Shape
 
 
@@ -47,8 +47,7 @@ def pair_contact(a: Body, b: Body, rule: PairRule, tick: int) -> TrueContact | N
     dx = (b.x - bx0) - (a.x - ax0)
     dy = (b.y - by0) - (a.y - ay0)
     # A box around every position of the motion: nothing outside it can touch.
-    left, top = ox + min(0, dx), oy + min(0, dy)
-    if not (left < a.w and left + b.w + abs(dx) > 0 and top < a.h and top + b.h + abs(dy) > 0):
+    if not swept_box_overlap(a.w, a.h, b.w, b.h, ox, oy, dx, dy):
         return None
     path = substeps(dx, dy)
     for i, (sx, sy) in enumerate(path):
