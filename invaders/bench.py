@@ -12,38 +12,22 @@ garbage collector paused (as timeit does). Never run by the tests.
 
 from __future__ import annotations
 
-import contextlib
-import gc
 import time
-from collections.abc import Iterator
-from dataclasses import dataclass
 
 import pygame
 
 from invaders.autopilot import Autopilot
-from invaders.collision.body import Body, Kind
 from invaders.collision.pipeline import Detector, make_detector
 from invaders.collision.predicates import solid_mask
 from invaders.collision.rules import RULES, Shape
-from invaders.collision.stats import Contact
 from invaders.replay import Checkpoint, Replay
 from invaders.replay import run as run_replay
 from invaders.sim.world import World
+from invaders.study.frames import Frame, FrameScene, snapshot
+from invaders.timing import no_gc
 
 TPS_GOAL = 5000
 DETECT_GOAL = 10.0
-
-
-BodyRow = tuple[int, int, int, int, int, int, pygame.mask.Mask]  # id, x, y, px, py, moved, mask
-
-
-@dataclass
-class Frame:
-    """One tick's collidable bodies as the detector saw them, and what it found."""
-
-    tick: int
-    bodies: dict[Kind, list[BodyRow]]
-    contacts: list[Contact]
 
 
 class TimedDetector:
@@ -65,24 +49,8 @@ class TimedDetector:
         contacts, stats = self.inner.detect(scene)
         self.seconds += time.perf_counter() - start
         if self.record:
-            bodies = {kind: [(b.id, b.x, b.y, b.px, b.py, b.moved_tick,
-                              b.mask.copy() if kind is Kind.BUNKER else b.mask)
-                             for b in scene.by_kind[kind]] for kind in Kind}
-            self.frames.append(Frame(scene.tick, bodies, list(contacts)))
+            self.frames.append(snapshot(scene, contacts))
         return contacts, stats
-
-
-@contextlib.contextmanager
-def no_gc() -> Iterator[None]:
-    """Time without the cyclic garbage collector, as timeit does, for both sides alike."""
-    was_enabled = gc.isenabled()
-    gc.collect()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if was_enabled:
-            gc.enable()
 
 
 def play_game(ticks: int, seed: int, broadphase: str, record: bool,
@@ -176,41 +144,6 @@ def compare(frames: list[Frame], baseline: list[set[tuple[int, int]]]) -> tuple[
         swept_only += len(ours - theirs)
         missed += len(theirs - ours)
     return both, swept_only, missed
-
-
-class FrameScene:
-    """Recorded frames played back as one scene, tick after tick, with the dirty list a
-    world would have given: what the detector sees is what it saw in the game."""
-
-    def __init__(self) -> None:
-        self.tick = -1
-        self.dirty: list[Body] = []
-        self.by_kind: dict[Kind, list[Body]] = {kind: [] for kind in Kind}
-        self._bodies: dict[int, Body] = {}
-
-    def load(self, frame: Frame) -> None:
-        self.tick = frame.tick
-        dirty = []
-        seen = set()
-        for kind, rows in frame.bodies.items():
-            listed = []
-            for body_id, x, y, px, py, moved, mask in rows:
-                seen.add(body_id)
-                body = self._bodies.get(body_id)
-                if body is None:
-                    body = self._bodies[body_id] = Body(body_id, kind, x, y, mask)
-                    dirty.append(body)
-                elif (body.x, body.y, body.moved_tick) != (x, y, moved):
-                    dirty.append(body)  # as the world reports moves (a new mask comes with one)
-                body.x, body.y, body.px, body.py, body.moved_tick = x, y, px, py, moved
-                body.mask = mask
-                listed.append(body)
-            self.by_kind[kind] = listed
-        for body_id in [i for i in self._bodies if i not in seen]:
-            body = self._bodies.pop(body_id)
-            body.alive = False
-            dirty.append(body)
-        self.dirty = dirty
 
 
 def replay_frames(frames: list[Frame], broadphase: str) -> tuple[float, bool]:

@@ -1,0 +1,20 @@
+"""Timing helpers for the bench and the study (never used by the simulation)."""
+
+from __future__ import annotations
+
+import contextlib
+import gc
+from collections.abc import Iterator
+
+
+@contextlib.contextmanager
+def no_gc() -> Iterator[None]:
+    """Time without the cyclic garbage collector, as timeit does, for both sides alike."""
+    was_enabled = gc.isenabled()
+    gc.collect()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was_enabled:
+            gc.enable()
