@@ -26,10 +26,14 @@ class Body:
     """A collidable thing at integer position (x, y), the top-left of its w x h box.
 
     `moved_tick` says on which tick (px, py) was last saved: a body that has not moved this
-    tick is where it was at the tick's start, whatever px, py still hold.
+    tick is where it was at the tick's start, whatever px, py still hold. `shaped_tick` is the
+    tick it appeared or last changed its mask on: a tick's contacts are the touches after
+    its first instant (that instant was the previous tick's last), and at that instant too
+    when a body in the pair was born or changed shape in it (a new configuration).
     """
 
-    __slots__ = ("alive", "h", "id", "kind", "mask", "moved_tick", "px", "py", "w", "x", "y")
+    __slots__ = ("alive", "h", "id", "kind", "mask", "moved_tick", "px", "py", "shaped_tick",
+                 "w", "x", "y")
 
     def __init__(self, body_id: int, kind: Kind, x: int, y: int, mask: pygame.mask.Mask) -> None:
         self.id = body_id
@@ -39,6 +43,7 @@ class Body:
         self.px = x
         self.py = y
         self.moved_tick = -1
+        self.shaped_tick = -1
         self.mask = mask
         self.w, self.h = mask.get_size()
         self.alive = True

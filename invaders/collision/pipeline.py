@@ -113,7 +113,8 @@ class Detector:
         a_mask = _shape_mask(a, rule.shape_of(a.kind))
         b_mask = _shape_mask(b, rule.shape_of(b.kind))
         if b.kind not in ERODIBLE:
-            found = predicates.first_swept_contact(a_mask, b_mask, ox, oy, dx, dy)
+            found = predicates.first_swept_contact(a_mask, b_mask, ox, oy, dx, dy,
+                                                   a.shaped_tick == tick or b.shaped_tick == tick)
             if found is None:
                 return True, None
             step, steps, (hx, hy) = found
@@ -123,7 +124,8 @@ class Detector:
             return True, Contact(tick, a.id, b.id, a.kind, b.kind, ax, ay, bx, by,
                                  ax + hx, ay + hy)
         # b erodes (a shield): sweep a against it instead, so only shared masks are swept.
-        found = predicates.first_swept_contact(b_mask, a_mask, -ox, -oy, -dx, -dy)
+        found = predicates.first_swept_contact(b_mask, a_mask, -ox, -oy, -dx, -dy,
+                                               a.shaped_tick == tick or b.shaped_tick == tick)
         if found is None:
             return True, None
         step, steps, (hx, hy) = found

@@ -90,11 +90,13 @@ def swept_box_overlap(
 
 
 def first_swept_contact(
-    fixed: pygame.mask.Mask, moving: pygame.mask.Mask, ox: int, oy: int, dx: int, dy: int
+    fixed: pygame.mask.Mask, moving: pygame.mask.Mask, ox: int, oy: int, dx: int, dy: int,
+    from_start: bool = True,
 ) -> tuple[int, int, Point] | None:
     """The first substep at which `moving`, starting at offset (ox, oy) from `fixed` and
     moving (dx, dy) relative to it, lights a pixel `fixed` lights.
 
+    With `from_start` false the start itself is not tested (it was the previous tick's end).
     Returns (step, steps, pixel in fixed's coordinates), or None. One test of the swept
     mask answers most calls; only a hit walks the substeps to find the first.
     """
@@ -105,8 +107,11 @@ def first_swept_contact(
     swept = swept_mask(moving, dx, dy)
     if fixed.overlap(swept, (ox + min(0, dx), oy + min(0, dy))) is None:
         return None
-    for i, (sx, sy) in enumerate(substeps(dx, dy)):
+    first = 0 if from_start else 1
+    path = substeps(dx, dy)
+    for i in range(first, steps + 1):
+        sx, sy = path[i]
         hit = fixed.overlap(moving, (ox + sx, oy + sy))
         if hit is not None:
             return i, steps, hit
-    raise AssertionError("the swept mask overlapped but no substep did")
+    return None  # it touched only at the start, which the previous tick reported

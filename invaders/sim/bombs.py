@@ -79,6 +79,7 @@ def advance(slot: BombSlot, speed: int, registry: Registry) -> None:
     slot.steps += 1
     bomb.frame = (bomb.frame + 1) % 4
     bomb.mask = BOMB_MASKS[bomb.btype][bomb.frame]
+    bomb.shaped_tick = registry.tick
     registry.move(bomb, bomb.x, bomb.y + speed)
 
 

@@ -68,6 +68,7 @@ class Rack:
         if alien.frame != self.frame:
             alien.frame = self.frame
             alien.mask = ALIEN_MASKS[row][self.frame]
+            alien.shaped_tick = registry.tick
         registry.move(alien, self.ref_x + g.cell * col, self.ref_top - g.cell * row - 8)
         self.cursor = index + 1
         if self._next_live(self.cursor) is None:

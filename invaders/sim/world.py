@@ -92,6 +92,7 @@ class World:
 
     def add(self, body: Body) -> None:
         body.alive = True
+        body.shaped_tick = self.tick
         self.by_kind[body.kind].append(body)
         self.by_id[body.id] = body
         self.dirty.append(body)

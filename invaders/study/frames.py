@@ -56,9 +56,12 @@ class FrameScene:
                 body = self._bodies.get(body_id)
                 if body is None:
                     body = self._bodies[body_id] = Body(body_id, kind, x, y, mask)
+                    body.shaped_tick = frame.tick
                     dirty.append(body)
                 elif (body.x, body.y, body.moved_tick) != (x, y, moved):
                     dirty.append(body)  # as the world reports moves (a new mask comes with one)
+                if body.mask is not mask and kind is not Kind.BUNKER:
+                    body.shaped_tick = frame.tick  # a new picture (shields only erode)
                 body.x, body.y, body.px, body.py, body.moved_tick = x, y, px, py, moved
                 body.mask = mask
                 listed.append(body)
