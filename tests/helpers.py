@@ -8,17 +8,12 @@ import pygame
 
 from invaders import art
 from invaders.collision.body import Body, Kind
-from invaders.sim.entities import ALIEN_MASKS, BOMB_MASKS, CannonState
+from invaders.collision.tuning import kind_masks
+from invaders.sim.entities import CannonState
 from invaders.sim.world import TickReport, World
 
 # Every picture mask a kind can show (shields, which erode, aside).
-SHARED_MASKS = {
-    Kind.SHOT: [art.mask_of(art.SHOT)],
-    Kind.BOMB: [m for masks in BOMB_MASKS.values() for m in masks],
-    Kind.ALIEN: [m for masks in ALIEN_MASKS for m in masks],
-    Kind.SAUCER: [art.mask_of(art.SAUCER)],
-    Kind.CANNON: [art.mask_of(art.CANNON)],
-}
+SHARED_MASKS = kind_masks()
 
 
 def mask(*rows: str) -> pygame.mask.Mask:

@@ -10,31 +10,9 @@ from invaders.autopilot import Autopilot
 from invaders.collision.body import Kind
 from invaders.collision.broadphase import Grid
 from invaders.collision.pipeline import Detector
-from invaders.collision.rules import (
-    NEVER,
-    POSITIONAL,
-    RULES,
-    Motion,
-    discrete_counterexample,
-    rule_for,
-    sweep_adds_pixels,
-)
-from invaders.config import DEFAULT_CONFIG
+from invaders.collision.rules import NEVER, POSITIONAL, RULES, Motion, rule_for
+from invaders.collision.tuning import cheapest_rules, discrete_miss, kind_masks, kind_moves
 from invaders.sim.world import World
-from tests.helpers import SHARED_MASKS as MASKS
-
-S = DEFAULT_CONFIG.speeds
-# Every displacement a body of each kind can make in one tick (0, 0: it did not move).
-MOVES = {
-    Kind.SHOT: [(0, -S.shot)],
-    Kind.BOMB: [(0, S.bomb), (0, S.bomb_fast), (0, 0)],
-    Kind.ALIEN: [(S.rack_step, 0), (-S.rack_step, 0), (S.rack_step_last_right, 0),
-                 (-S.rack_step, S.rack_drop), (S.rack_step, S.rack_drop),
-                 (S.rack_step_last_right, S.rack_drop), (0, 0)],
-    Kind.SAUCER: [(S.saucer, 0), (-S.saucer, 0), (0, 0)],
-    Kind.CANNON: [(S.cannon, 0), (-S.cannon, 0), (0, 0)],
-    Kind.BUNKER: [(0, 0)],
-}
 
 
 def test_every_pair_of_kinds_is_either_tested_or_excluded_with_a_reason():
@@ -54,31 +32,26 @@ def test_the_named_exclusions():
     assert rule_for(Kind.SHOT, Kind.SAUCER).zone is not None  # only in the lane
 
 
-def _counterexample(rule):
-    """Some displacement pair and start offset where the discrete test misses, or None."""
-    for da, db in itertools.product(MOVES[rule.a], MOVES[rule.b]):
-        dx, dy = db[0] - da[0], db[1] - da[1]
-        if rule.b is Kind.BUNKER:  # any eroded shape: sweeping must add no pixel
-            if any(sweep_adds_pixels(m, -dx, -dy) for m in MASKS[rule.a]):
-                return da, db
-            continue
-        for ma, mb in itertools.product(MASKS[rule.a], MASKS[rule.b]):
-            found = discrete_counterexample(ma, mb, dx, dy)
-            if found is not None:
-                return da, db, found
-    return None
-
-
 @pytest.mark.parametrize("rule", RULES, ids=lambda r: f"{r.a.name}-{r.b.name}")
 def test_each_entry_uses_the_cheapest_motion_model_that_is_exact(rule):
     if frozenset({rule.a, rule.b}) in POSITIONAL:
         assert rule.motion is Motion.DISCRETE
         return
-    missed = _counterexample(rule)
+    missed = discrete_miss(rule, kind_moves(), kind_masks())
     if rule.motion is Motion.DISCRETE:
         assert missed is None, f"discrete misses {missed}: this entry must be swept"
     else:
         assert missed is not None, "discrete is exact here: sweeping is wasted work"
+
+
+def test_the_derived_table_is_the_hand_written_one_at_game_speed():
+    assert cheapest_rules(1) == RULES
+
+
+def test_faster_projectiles_need_the_shot_swept_against_shields_too():
+    fast = {(r.a, r.b): r.motion for r in cheapest_rules(4)}
+    assert fast[(Kind.SHOT, Kind.BUNKER)] is Motion.SWEPT
+    assert fast[(Kind.BUNKER, Kind.ALIEN)] is Motion.DISCRETE  # positional, whatever the speed
 
 
 class SpyGrid(Grid):
