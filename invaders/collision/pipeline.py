@@ -8,13 +8,15 @@ entries. Response (step 4) is someone else's job: see response.py.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 from invaders.collision import predicates
 from invaders.collision.body import ERODIBLE, Body
 from invaders.collision.broadphase import BroadPhase, Group, KindSets, Scene, make_broadphase
 from invaders.collision.rules import RULES, Motion, PairRule, Shape, probed_kinds, swept_kinds
 from invaders.collision.stats import CollisionStats, Contact
+
+QuickTest = Callable[[tuple[int, int, int, int], tuple[int, int, int, int]], bool]
 
 
 def _in_zone(body: Body, zone: tuple[int, int, int, int]) -> bool:
@@ -29,9 +31,11 @@ def _shape_mask(body: Body, shape: Shape):  # -> pygame.mask.Mask
 class Detector:
     """A rules table and a broad phase; holds only the broad phase's own bookkeeping."""
 
-    def __init__(self, broadphase: BroadPhase, rules: tuple[PairRule, ...] = RULES) -> None:
+    def __init__(self, broadphase: BroadPhase, rules: tuple[PairRule, ...] = RULES,
+                 quick: QuickTest | None = None) -> None:
         self.broadphase = broadphase
         self.rules = rules
+        self.quick = quick  # None: exact box overlap, inlined; else a study's stand-in
         self.swept = swept_kinds(rules)
         self.kinds = KindSets(self.swept, probed_kinds(rules))
         self._table = tuple((rule, rule.a, rule.b, rule.zone) for rule in rules)
@@ -67,10 +71,13 @@ class Detector:
         self.last_pairs = [(a.id, b.id) for a, b, _ in pairs] if pairs else ()
 
         tick = scene.tick
+        quick = self.quick
         contacts: list[Contact] = []
         rect_tests = rect_hits = mask_tests = mask_hits = swept_tests = 0
         for a, b, rule in pairs:
             rect_tests += 1
+            if quick is not None and not quick(_box(a, tick, rule), _box(b, tick, rule)):
+                continue
             if rule.motion is Motion.SWEPT:
                 box_hit, contact = self._swept(a, b, rule, tick)
                 if box_hit:
@@ -79,7 +86,8 @@ class Detector:
                     if contact is not None:
                         contacts.append(contact)
                 continue
-            if not (a.x < b.x + b.w and b.x < a.x + a.w and a.y < b.y + b.h and b.y < a.y + a.h):
+            if quick is None and not (a.x < b.x + b.w and b.x < a.x + a.w
+                                      and a.y < b.y + b.h and b.y < a.y + a.h):
                 continue
             rect_hits += 1
             if rule.needs_pixels:
@@ -133,6 +141,14 @@ class Detector:
         sx, sy = predicates.substeps(-dx, -dy)[step]
         ax, ay = bx - ox + sx, by - oy + sy
         return True, Contact(tick, a.id, b.id, a.kind, b.kind, ax, ay, bx, by, bx + hx, by + hy)
+
+
+def _box(body: Body, tick: int, rule: PairRule) -> tuple[int, int, int, int]:
+    """x, y, w, h: the body's box, over the whole tick's motion for swept entries."""
+    if rule.motion is not Motion.SWEPT or body.moved_tick != tick:
+        return body.x, body.y, body.w, body.h
+    x0, y0 = min(body.x, body.px), min(body.y, body.py)
+    return x0, y0, abs(body.x - body.px) + body.w, abs(body.y - body.py) + body.h
 
 
 def _at(x0: int, y0: int, x1: int, y1: int, step: int, steps: int) -> tuple[int, int]:
