@@ -76,6 +76,17 @@ def build_parser() -> Parser:
                        help="rewrite the expected checkpoints (after an intended rule change)")
     check.add_argument("--broadphase", choices=BROADPHASES, default="grid")
 
+    study = sub.add_parser("study", help="speed against accuracy: the method matrix, charts")
+    study.add_argument("--quick", action="store_true", help="a smaller matrix (under a minute)")
+    study.add_argument("--jobs", type=_int_in("--jobs", 1, 64), default=1,
+                       help="run scenes in this many processes")
+    study.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run scenes on a Dask cluster (the [study] extra)")
+    study.add_argument("--out", metavar="FOLDER", default="study",
+                       help="where study.csv, scaling.csv and the charts go")
+    study.add_argument("--replays", metavar="FOLDER", default="replays",
+                       help="the replays to study (*.json)")
+
     bench = sub.add_parser("bench", help="time the pipeline against references, as ratios")
     bench.add_argument("--ticks", type=_int_in("--ticks", 60, MAX_TICKS), default=3600)
     bench.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=7)
@@ -172,7 +183,30 @@ def cmd_bench(args: argparse.Namespace) -> int:
     return bench(ticks=args.ticks, seed=args.seed, repeat=args.repeat)
 
 
-COMMANDS = {"run": cmd_run, "play": cmd_play, "bench": cmd_bench, "replay": cmd_replay}
+def cmd_study(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from invaders.headless import use_dummy_drivers
+
+    use_dummy_drivers()
+    replays = Path(args.replays)
+    if not replays.is_dir() or not any(replays.glob("*.json")):
+        raise UsageError(f"--replays {args.replays!r}: no folder of replay files (*.json)")
+    if args.scheduler:
+        try:
+            import dask.distributed  # noqa: F401
+        except ImportError:
+            raise UsageError("--scheduler needs Dask: pip install 'invaders[study]'") from None
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"--out {args.out!r} is a file, not a folder")
+    from invaders.study.plan import study
+
+    return study(out, replays, quick=args.quick, jobs=args.jobs, scheduler=args.scheduler)
+
+
+COMMANDS = {"run": cmd_run, "play": cmd_play, "bench": cmd_bench, "replay": cmd_replay,
+            "study": cmd_study}
 
 
 def main(argv: Sequence[str] | None = None) -> int:
