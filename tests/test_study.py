@@ -1,0 +1,103 @@
+"""The study: a small plan end to end, the same answers however it is run, and its charts."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import pygame
+import pytest
+
+from invaders.cli import main
+from invaders.study import charts
+from invaders.study.matrix import Method
+from invaders.study.plan import Plan, execute
+from invaders.study.runner import SceneSpec
+
+REPLAYS = Path(__file__).resolve().parents[1] / "replays"
+# Fields that depend on timing: speeds, and which broad phase an automatic choice made.
+TIMING = {"us_per_detection", "us_per_tick", "broad", "cell", "candidates", "rect_tests"}
+
+
+def _plan() -> Plan:
+    methods = [Method(), Method(motion="discrete"), Method(thorough="none"),
+               Method(quick="circle"), Method(sampling=4), Method(cell=0)]
+    return Plan(work=[(SceneSpec.of_replay(REPLAYS / "cannon-death.json", 400), methods),
+                      (SceneSpec.storm(300, 6, multiplier=4), methods)], repeat=1)
+
+
+@pytest.fixture(scope="module")
+def serial_rows() -> list[dict]:
+    return execute(_plan())
+
+
+def _accuracy(rows: list[dict]) -> list[dict]:
+    return [{k: v for k, v in row.items() if k not in TIMING} for row in rows]
+
+
+def _row(rows, scene, method):
+    (row,) = [r for r in rows if r["scene"] == scene and r["method"] == method]
+    return row
+
+
+def test_the_default_is_exact_and_cheaper_methods_show_their_failures(serial_rows):
+    default = "grid16/rect/mask/auto/every1"
+    for scene in ("replay:cannon-death", "storm300x4"):
+        row = _row(serial_rows, scene, default)
+        assert row["true"] > 0
+        assert (row["missed"], row["false"], row["late"]) == (0, 0, 0)
+    assert _row(serial_rows, "storm300x4", "grid16/rect/mask/discrete/every1")["missed"] > 0
+    assert _row(serial_rows, "replay:cannon-death", "grid16/rect/none/auto/every1")["false"] > 0
+    assert _row(serial_rows, "replay:cannon-death", "grid16/rect/mask/auto/every4")["missed"] > 0
+    circle = _row(serial_rows, "storm300x4", "grid16/circle/mask/auto/every1")
+    assert (circle["missed"], circle["false"]) == (0, 0)  # circles are conservative; masks fix
+    auto = _row(serial_rows, "storm300x4", "gridauto/rect/mask/auto/every1")
+    assert (auto["missed"], auto["false"], auto["late"]) == (0, 0, 0)
+
+
+def test_processes_give_the_same_answers_as_a_single_one(serial_rows):
+    assert _accuracy(execute(_plan(), jobs=2)) == _accuracy(serial_rows)
+
+
+def test_a_local_dask_cluster_gives_the_same_answers(serial_rows):
+    distributed = pytest.importorskip("dask.distributed")
+    with distributed.LocalCluster(n_workers=1, processes=False, dashboard_address=None) as c:
+        rows = execute(_plan(), scheduler=c.scheduler_address)
+    assert _accuracy(rows) == _accuracy(serial_rows)
+
+
+def test_the_charts_are_drawn(serial_rows, tmp_path):
+    charts.speed_accuracy(serial_rows, tmp_path / "a.png")
+    charts.counters({"candidates": [0, 1, 3, 2] * 30, "contacts": [0, 0, 1, 0] * 30},
+                    tmp_path / "b.png", "counters")
+    charts.scaling({"ours": [(100, 150.0), (1000, 1300.0)],
+                    "brute": [(100, 1500.0), (1000, 160000.0)]}, tmp_path / "c.png")
+    for name in "abc":
+        image = pygame.image.load(str(tmp_path / f"{name}.png"))
+        assert image.get_width() > 400 and image.get_height() > 300
+
+
+def test_the_pareto_front_keeps_only_points_nothing_beats():
+    points = [(1.0, 0.5, "a"), (2.0, 0.1, "b"), (3.0, 0.3, "c"), (4.0, 0.0, "d")]
+    assert [p[2] for p in charts.pareto(points)] == ["a", "b", "d"]
+
+
+def test_study_quick_from_the_command_line(tmp_path, capsys):
+    out = tmp_path / "study"
+    assert main(["study", "--quick", "--jobs", "2", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "default (rect/mask/auto/every1)" in printed and "0.0000 errors" in printed
+    with (out / "study.csv").open() as handle:
+        rows = list(csv.DictReader(handle))
+    assert len(rows) > 100
+    assert {"speed_accuracy.png", "counters.png", "scaling.png"} <= {p.name for p in out.iterdir()}
+
+
+@pytest.mark.parametrize("args, problem", [
+    (["study", "--replays", "/no/such/folder"], "--replays"),
+    (["study", "--jobs", "0"], "--jobs"),
+])
+def test_bad_study_options_are_one_line(capsys, args, problem):
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and problem in err
