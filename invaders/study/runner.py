@@ -93,11 +93,18 @@ def truth(frames: list[Frame]) -> list[set[tuple[int, int]]]:
     return out
 
 
-def choose_broadphase(frames: list[Frame], multiplier: int, probe: int = 40) -> Method:
+BRUTE_TRIAL_LIMIT = 400  # bodies: brute force is not even tried on bigger scenes
+
+
+def choose_broadphase(frames: list[Frame], multiplier: int) -> Method:
     """The fastest broad phase on the scene's first frames (all give the same contacts):
     brute force where the scene is too small for anything else to pay."""
+    bodies = sum(len(v) for v in frames[0].bodies.values())
+    probe = 40 if bodies <= 1000 else 4
     best = None
     for method in AUTO_CHOICES:
+        if method.broad == "brute" and bodies > BRUTE_TRIAL_LIMIT:
+            continue
         seconds = _play(method, frames[:probe], multiplier)[0]
         if best is None or seconds < best[0]:
             best = (seconds, method)
