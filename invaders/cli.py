@@ -9,7 +9,7 @@ from typing import NoReturn
 
 from invaders import __version__
 from invaders.autopilot import STYLES
-from invaders.collision.broadphase import BROADPHASES
+from invaders.collision.broadphase import BROADPHASES, DEFAULT_CELL
 
 MAX_TICKS = 100_000_000
 
@@ -65,7 +65,7 @@ def build_parser() -> Parser:
                      metavar="STYLE",
                      help="let the built-in player play: hunter (default), expert, pacifist")
     run.add_argument("--broadphase", choices=BROADPHASES, default="grid")
-    run.add_argument("--cell", type=_int_in("--cell", 1, 1024), default=16,
+    run.add_argument("--cell", type=_int_in("--cell", 1, 1024), default=DEFAULT_CELL,
                      help="grid cell size in px")
     run.add_argument("--report", metavar="FILE", help="per-tick counters, .csv or .jsonl")
     run.add_argument("--record", metavar="FILE", help="save the run as a replay (JSON)")

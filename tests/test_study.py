@@ -41,15 +41,15 @@ def _row(rows, scene, method):
 
 
 def test_the_default_is_exact_and_cheaper_methods_show_their_failures(serial_rows):
-    default = "grid16/rect/mask/auto/every1"
+    default = "grid32/rect/mask/auto/every1"
     for scene in ("replay:cannon-death", "storm300x4"):
         row = _row(serial_rows, scene, default)
         assert row["true"] > 0
         assert (row["missed"], row["false"], row["late"]) == (0, 0, 0)
-    assert _row(serial_rows, "storm300x4", "grid16/rect/mask/discrete/every1")["missed"] > 0
-    assert _row(serial_rows, "replay:cannon-death", "grid16/rect/none/auto/every1")["false"] > 0
-    assert _row(serial_rows, "replay:cannon-death", "grid16/rect/mask/auto/every4")["missed"] > 0
-    circle = _row(serial_rows, "storm300x4", "grid16/circle/mask/auto/every1")
+    assert _row(serial_rows, "storm300x4", "grid32/rect/mask/discrete/every1")["missed"] > 0
+    assert _row(serial_rows, "replay:cannon-death", "grid32/rect/none/auto/every1")["false"] > 0
+    assert _row(serial_rows, "replay:cannon-death", "grid32/rect/mask/auto/every4")["missed"] > 0
+    circle = _row(serial_rows, "storm300x4", "grid32/circle/mask/auto/every1")
     assert (circle["missed"], circle["false"]) == (0, 0)  # circles are conservative; masks fix
     auto = _row(serial_rows, "storm300x4", "gridauto/rect/mask/auto/every1")
     assert (auto["missed"], auto["false"], auto["late"]) == (0, 0, 0)

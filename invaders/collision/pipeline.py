@@ -12,7 +12,14 @@ from collections.abc import Callable, Sequence
 
 from invaders.collision import predicates
 from invaders.collision.body import ERODIBLE, Body
-from invaders.collision.broadphase import BroadPhase, Group, KindSets, Scene, make_broadphase
+from invaders.collision.broadphase import (
+    DEFAULT_CELL,
+    BroadPhase,
+    Group,
+    KindSets,
+    Scene,
+    make_broadphase,
+)
 from invaders.collision.rules import RULES, Motion, PairRule, Shape, probed_kinds, swept_kinds
 from invaders.collision.stats import CollisionStats, Contact
 
@@ -159,6 +166,6 @@ def _at(x0: int, y0: int, x1: int, y1: int, step: int, steps: int) -> tuple[int,
             y0 + predicates.round_div((y1 - y0) * step, steps))
 
 
-def make_detector(broadphase: str = "grid", cell: int = 16) -> Detector:
+def make_detector(broadphase: str = "grid", cell: int = DEFAULT_CELL) -> Detector:
     """A detector with the default rules and the named broad phase."""
     return Detector(make_broadphase(broadphase, cell))

@@ -13,6 +13,7 @@ from collections import defaultdict
 from pathlib import Path
 
 from invaders.atomic import atomic_path
+from invaders.collision.broadphase import DEFAULT_CELL
 
 
 def _pyplot():
@@ -42,13 +43,18 @@ def pareto(points: list[tuple[float, float, str]]) -> list[tuple[float, float, s
 
 def method_points(rows: list[dict]) -> list[tuple[float, float, str]]:
     """(mean us per tick, errors per true contact, label) per narrow-phase method, over the
-    accuracy cells (the default broad phase)."""
+    accuracy cells (the default broad phase) of the scenes every method ran on."""
     time_sum: dict[str, float] = defaultdict(float)
     count: dict[str, int] = defaultdict(int)
     errors: dict[str, int] = defaultdict(int)
     true: dict[str, int] = defaultdict(int)
-    for row in rows:
-        if row["broad"] != "grid" or str(row["cell"]) != "16":
+    cells = [r for r in rows if r["method"].startswith(f"grid{DEFAULT_CELL}/")]
+    scenes: dict[str, set[str]] = defaultdict(set)
+    for row in cells:
+        scenes[row["method"]].add(row["scene"])
+    common = set.intersection(*scenes.values()) if scenes else set()
+    for row in cells:
+        if row["scene"] not in common:
             continue
         label = row["method"].split("/", 1)[1]
         time_sum[label] += float(row["us_per_tick"])

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-from invaders.collision.broadphase import make_broadphase
+from invaders.collision.broadphase import DEFAULT_CELL, make_broadphase
 from invaders.collision.pipeline import Detector
 from invaders.collision.rules import RULES, Motion, Shape
 from invaders.collision.tuning import cheapest_rules
@@ -26,7 +26,7 @@ MULTIPLIERS = (1, 2, 4, 8, 16)
 @dataclass(frozen=True)
 class Method:
     broad: str = "grid"  # brute | grid | sweep
-    cell: int = 16  # grid cell in px; 0: chosen from the scene
+    cell: int = DEFAULT_CELL  # grid cell in px; 0: chosen from the scene
     quick: str = "rect"  # rect | circle
     thorough: str = "mask"  # none | mask
     motion: str = "auto"  # discrete | swept | auto
@@ -60,7 +60,7 @@ def rules_for(method: Method, multiplier: int = 1):
 
 def detector_for(method: Method, multiplier: int = 1, cell: int | None = None) -> Detector:
     """A Detector for the method; `cell` replaces an automatic cell size once chosen."""
-    size = method.cell or cell or 16
+    size = method.cell or cell or DEFAULT_CELL
     quick = None if method.quick == "rect" else QUICK_TESTS[method.quick]
     return Detector(make_broadphase(method.broad, size), rules_for(method, multiplier), quick)
 

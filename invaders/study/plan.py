@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from invaders.atomic import write_atomic
+from invaders.collision.broadphase import DEFAULT_CELL
 from invaders.study.matrix import MULTIPLIERS, Method, accuracy_matrix, broad_matrix
 from invaders.study.runner import SceneSpec, run_scene
 
@@ -161,7 +162,8 @@ def scaling_rows(plan: Plan, rows: list[dict], budget: float) -> list[dict]:
         mine = {r["method"].split("/")[0]: float(r["us_per_tick"]) for r in rows
                 if r["scene"] == name and r["method"].endswith("rect/mask/auto/every1")}
         frames = record(SceneSpec.storm(n, plan.scaling_ticks))
-        out.append({"bodies": n, "ours_auto": mine.get("gridauto"), "grid16": mine.get("grid16"),
+        out.append({"bodies": n, "ours_auto": mine.get("gridauto"),
+                    "grid_default": mine.get(f"grid{DEFAULT_CELL}"),
                     "sweep": mine.get("sweep"), "brute": mine.get("brute"),
                     "groupcollide_mask": round(groupcollide_us(frames, budget), 1),
                     "pymunk_boxes": pymunk_us(frames)})
@@ -224,7 +226,7 @@ def summary(rows: list[dict], scale: list[dict]) -> list[str]:
     lines.append(f"Pareto front: {front}")
     if scale:
         big = max(scale, key=lambda r: r["bodies"])
-        ours = big["ours_auto"] or big["grid16"]
+        ours = big["ours_auto"] or big["grid_default"]
         if ours:
             lines.append(f"at {big['bodies']} bodies: ours {ours:.0f} us a tick, "
                          f"groupcollide {big['groupcollide_mask'] / ours:.0f}x slower"
