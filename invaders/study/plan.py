@@ -209,6 +209,27 @@ def study(out: Path, replays: Path, quick: bool = False, jobs: int = 1,
     return 0
 
 
+def game_scale(rows: list[dict]) -> list[str]:
+    """The default against every exact single method over the replays (game scale)."""
+    replays = [r for r in rows if r["scene"].startswith("replay:")]
+    scenes = {r["scene"] for r in replays}
+    by_method: dict[str, list[float]] = {}
+    errors: dict[str, int] = {}
+    for row in replays:
+        by_method.setdefault(row["method"], []).append(float(row["us_per_tick"]))
+        errors[row["method"]] = errors.get(row["method"], 0) + sum(
+            int(row[k]) for k in ("missed", "false", "late"))
+    exact = {m: sum(t) / len(t) for m, t in by_method.items()
+             if errors[m] == 0 and len(t) == len(scenes)}
+    default = f"grid{DEFAULT_CELL}/rect/mask/auto/every1"
+    if default not in exact:
+        return []
+    best = min(exact, key=exact.get)
+    return [f"at game scale ({len(scenes)} replays): default {exact[default]:.2f} us a tick; "
+            f"best exact single method {best} {exact[best]:.2f} us "
+            f"({exact[default] / exact[best]:.2f}x)"]
+
+
 def summary(rows: list[dict], scale: list[dict]) -> list[str]:
     """What the study found, in a few lines."""
     from invaders.study.charts import method_points, pareto
@@ -224,6 +245,7 @@ def summary(rows: list[dict], scale: list[dict]) -> list[str]:
         lines.append(f"fastest exact method: {exact[0][2]} at {exact[0][0]:.1f} us a tick")
     front = ", ".join(label for _, _, label in pareto(points))
     lines.append(f"Pareto front: {front}")
+    lines += game_scale(rows)
     if scale:
         big = max(scale, key=lambda r: r["bodies"])
         ours = big["ours_auto"] or big["grid_default"]
