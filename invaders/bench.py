@@ -23,7 +23,7 @@ from invaders.collision.rules import RULES, Shape
 from invaders.replay import Checkpoint, Replay
 from invaders.replay import run as run_replay
 from invaders.sim.world import World
-from invaders.study.frames import Frame, FrameScene, snapshot
+from invaders.study.frames import Frame, play_frames, snapshot
 from invaders.timing import no_gc
 
 TPS_GOAL = 5000
@@ -149,18 +149,8 @@ def compare(frames: list[Frame], baseline: list[set[tuple[int, int]]]) -> tuple[
 def replay_frames(frames: list[Frame], broadphase: str) -> tuple[float, bool]:
     """Seconds our detector spends on the frames played back in a tight loop, and whether
     it found exactly the contacts it found in the game."""
-    detector = make_detector(broadphase)
-    scene = FrameScene()
-    seconds = 0.0
-    same = True
-    with no_gc():
-        for frame in frames:
-            scene.load(frame)
-            start = time.perf_counter()
-            contacts, _ = detector.detect(scene)
-            seconds += time.perf_counter() - start
-            same = same and contacts == frame.contacts
-    return seconds, same
+    seconds, found, _ = play_frames(make_detector(broadphase), frames)
+    return seconds, all(c == f.contacts for c, f in zip(found, frames, strict=True))
 
 
 def _body_count(frames: list[Frame]) -> float:

@@ -7,19 +7,17 @@ taken at the full rate, so a method that looks less often is judged on what it m
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
 from invaders.collision.pipeline import make_detector
 from invaders.replay import load
 from invaders.sim.world import World
-from invaders.study.frames import Frame, FrameScene, sampled, snapshot
+from invaders.study.frames import Frame, FrameScene, play_frames, sampled, snapshot
 from invaders.study.matrix import Method, detector_for
 from invaders.study.oracle import true_contacts
 from invaders.study.score import Scorer
 from invaders.study.storm import Storm
-from invaders.timing import no_gc
 
 AUTO_CHOICES = (Method(broad="brute"), Method(broad="sweep"), Method(cell=8), Method(cell=16),
                 Method(cell=32), Method(cell=64))
@@ -113,20 +111,8 @@ def choose_broadphase(frames: list[Frame], multiplier: int) -> Method:
 
 
 def _play(method: Method, frames: list[Frame], multiplier: int, cell: int | None = None):
-    detector = detector_for(method, multiplier, cell)
-    scene = FrameScene()
-    seconds = 0.0
-    reported = []
-    totals = [0] * 10
-    with no_gc():
-        for frame in frames:
-            scene.load(frame)
-            start = time.perf_counter()
-            contacts, stats = detector.detect(scene)
-            seconds += time.perf_counter() - start
-            reported.append({(c.a_id, c.b_id) for c in contacts})
-            totals = [t + s for t, s in zip(totals, stats, strict=True)]
-    return seconds, reported, totals
+    seconds, found, totals = play_frames(detector_for(method, multiplier, cell), frames)
+    return seconds, [{(c.a_id, c.b_id) for c in contacts} for contacts in found], totals
 
 
 def run_cell(spec: SceneSpec, method: Method, frames: list[Frame],
