@@ -158,11 +158,16 @@ def cmd_play(args: argparse.Namespace) -> int:
             raise UsageError(f"{args.replay}: {err}") from None
     if args.record:
         _check_writable(args.record, "replay")
+    import pygame
+
     try:
         return play(seed=args.seed, scale=args.scale, broadphase=args.broadphase,
                     overlay=args.overlay, record=args.record, replay=replay, speed=args.speed)
     except KeyboardInterrupt:
         return 130
+    except pygame.error as err:
+        raise UsageError(f"cannot open a window ({err}); without a display, use "
+                         "'invaders run' or set SDL_VIDEODRIVER=dummy") from None
 
 
 def cmd_replay(args: argparse.Namespace) -> int:

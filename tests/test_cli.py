@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
+import os
 import re
 import statistics
 import subprocess
@@ -90,6 +91,17 @@ def test_bad_input_is_one_line_naming_the_problem_and_exit_2(capsys, args, probl
     assert len(err.strip().splitlines()) == 1
     assert problem in err
     assert "Traceback" not in err
+
+
+def test_play_without_a_display_is_one_line():
+    script = Path(sys.executable).with_name("invaders")
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    env["SDL_VIDEODRIVER"] = "x11"  # no X server here: the window cannot open
+    result = subprocess.run([str(script), "play"], capture_output=True, text=True, env=env,
+                            timeout=60, check=False)
+    assert result.returncode == 2
+    assert len(result.stderr.strip().splitlines()) == 1
+    assert "cannot open a window" in result.stderr
 
 
 def test_the_installed_command_runs_headless():
