@@ -56,3 +56,15 @@ class Body:
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(id={self.id}, x={self.x}, y={self.y})"
+
+
+def tick_box(body: Body, tick: int, swept: bool = True) -> tuple[int, int, int, int]:
+    """x0, y0, x1, y1 (half-open) of the body's box, over its whole motion this tick if
+    `swept` (the grid inlines the same rule on its hot path)."""
+    x0, y0 = body.x, body.y
+    x1, y1 = x0 + body.w, y0 + body.h
+    if swept and body.moved_tick == tick:
+        px, py = body.px, body.py
+        x0, y0 = min(x0, px), min(y0, py)
+        x1, y1 = max(x1, px + body.w), max(y1, py + body.h)
+    return x0, y0, x1, y1

@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import NamedTuple, Protocol
 
-from invaders.collision.body import Body, Kind
+from invaders.collision.body import Body, Kind, tick_box
 from invaders.collision.rules import PairRule
 
 Group = tuple[PairRule, Sequence[Body], Sequence[Body]]
@@ -252,8 +252,11 @@ class SortAndSweep:
         swept = kinds.swept
         out: list[Pair] = []
         for rule, side_a, side_b in groups:
-            items = [(*_box(body, body.kind in swept, tick), side, body)
-                     for side, bodies in ((0, side_a), (1, side_b)) for body in bodies]
+            items = []
+            for side, bodies in ((0, side_a), (1, side_b)):
+                for body in bodies:
+                    x0, y0, x1, y1 = tick_box(body, tick, body.kind in swept)
+                    items.append((x0, x1, y0, y1, side, body))
             items.sort(key=lambda item: (item[0], item[5].id))
             active: tuple[list, list] = ([], [])
             for item in items:
@@ -268,17 +271,6 @@ class SortAndSweep:
         if len(out) > 1:
             out.sort(key=_pair_key)
         return out
-
-
-def _box(body: Body, is_swept: bool, tick: int) -> tuple[int, int, int, int]:
-    """x0, x1, y0, y1 (half-open) of the body's box, swept over the tick if asked."""
-    x0, y0 = body.x, body.y
-    x1, y1 = x0 + body.w, y0 + body.h
-    if is_swept and body.moved_tick == tick:
-        px, py = body.px, body.py
-        x0, y0 = min(x0, px), min(y0, py)
-        x1, y1 = max(x1, px + body.w), max(y1, py + body.h)
-    return x0, x1, y0, y1
 
 
 BROADPHASES = ("grid", "brute", "sweep")

@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 from invaders.collision import predicates
-from invaders.collision.body import ERODIBLE, Body
+from invaders.collision.body import ERODIBLE, Body, tick_box
 from invaders.collision.broadphase import (
     DEFAULT_CELL,
     BroadPhase,
@@ -83,7 +83,7 @@ class Detector:
         rect_tests = rect_hits = mask_tests = mask_hits = swept_tests = 0
         for a, b, rule in pairs:
             rect_tests += 1
-            if quick is not None and not quick(_box(a, tick, rule), _box(b, tick, rule)):
+            if quick is not None and not quick(_xywh(a, tick, rule), _xywh(b, tick, rule)):
                 continue
             if rule.motion is Motion.SWEPT:
                 box_hit, contact = self._swept(a, b, rule, tick)
@@ -150,12 +150,10 @@ class Detector:
         return True, Contact(tick, a.id, b.id, a.kind, b.kind, ax, ay, bx, by, bx + hx, by + hy)
 
 
-def _box(body: Body, tick: int, rule: PairRule) -> tuple[int, int, int, int]:
-    """x, y, w, h: the body's box, over the whole tick's motion for swept entries."""
-    if rule.motion is not Motion.SWEPT or body.moved_tick != tick:
-        return body.x, body.y, body.w, body.h
-    x0, y0 = min(body.x, body.px), min(body.y, body.py)
-    return x0, y0, abs(body.x - body.px) + body.w, abs(body.y - body.py) + body.h
+def _xywh(body: Body, tick: int, rule: PairRule) -> tuple[int, int, int, int]:
+    """The box a study's quick test sees: over the tick's motion for swept entries."""
+    x0, y0, x1, y1 = tick_box(body, tick, rule.motion is Motion.SWEPT)
+    return x0, y0, x1 - x0, y1 - y0
 
 
 def _at(x0: int, y0: int, x1: int, y1: int, step: int, steps: int) -> tuple[int, int]:

@@ -25,9 +25,17 @@ def _pyplot():
     return plt
 
 
-def _save(fig, path: Path) -> None:
+def _finish(plt, fig, ax, path: Path, xlabel: str, ylabel: str, title: str,
+            legend_at: str = "best") -> None:
+    """Labels, legend and grid as every chart has them; then save (atomically) and close."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.legend(fontsize=8, loc=legend_at)
+    ax.grid(True, which="both", alpha=0.3)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, bbox_inches="tight")
+    plt.close(fig)
 
 
 def pareto(points: list[tuple[float, float, str]]) -> list[tuple[float, float, str]]:
@@ -82,13 +90,9 @@ def speed_accuracy(rows: list[dict], path: Path) -> None:
     ax.set_xscale("log")
     ax.set_yscale("symlog", linthresh=0.01)
     ax.set_ylim(bottom=0)
-    ax.set_xlabel("detection time per original tick (us, log)")
-    ax.set_ylabel("errors per true contact (missed + false + late)")
-    ax.set_title("Speed against accuracy: quick test / thorough test / motion / sampling")
-    ax.legend(fontsize=8)
-    ax.grid(True, which="both", alpha=0.3)
-    _save(fig, path)
-    plt.close(fig)
+    _finish(plt, fig, ax, path, "detection time per original tick (us, log)",
+            "errors per true contact (missed + false + late)",
+            "Speed against accuracy: quick test / thorough test / motion / sampling")
 
 
 def counters(series: dict[str, list[int]], path: Path, title: str) -> None:
@@ -101,13 +105,8 @@ def counters(series: dict[str, list[int]], path: Path, title: str) -> None:
                     for i in range(len(values))]
         ax.plot(range(len(values)), [max(v, 0.01) for v in smoothed], label=name, lw=1.2)
     ax.set_yscale("log")
-    ax.set_xlabel("tick")
-    ax.set_ylabel("pairs per tick (mean over 60 ticks)")
-    ax.set_title(title)
-    ax.legend(fontsize=8, loc="upper right")
-    ax.grid(True, which="both", alpha=0.3)
-    _save(fig, path)
-    plt.close(fig)
+    _finish(plt, fig, ax, path, "tick", "pairs per tick (mean over 60 ticks)", title,
+            legend_at="upper right")
 
 
 def scaling(series: dict[str, list[tuple[int, float]]], path: Path) -> None:
@@ -119,10 +118,5 @@ def scaling(series: dict[str, list[tuple[int, float]]], path: Path) -> None:
             ax.plot([p[0] for p in points], [p[1] for p in points], "-o", ms=4, label=name)
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("bodies in the scene")
-    ax.set_ylabel("detection time per tick (us)")
-    ax.set_title("Time per tick against body count (storm scenes)")
-    ax.legend(fontsize=8)
-    ax.grid(True, which="both", alpha=0.3)
-    _save(fig, path)
-    plt.close(fig)
+    _finish(plt, fig, ax, path, "bodies in the scene", "detection time per tick (us)",
+            "Time per tick against body count (storm scenes)")
