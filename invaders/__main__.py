@@ -2,7 +2,7 @@
 
 import sys
 
-from invaders.cli import main
+from invaders.app.cli import main
 
 if __name__ == "__main__":
     sys.exit(main(["play", *sys.argv[1:]]))

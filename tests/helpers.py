@@ -6,11 +6,11 @@ from collections.abc import Callable, Sequence
 
 import pygame
 
-from invaders import art
-from invaders.collision.body import Body, Kind
-from invaders.collision.tuning import kind_masks
-from invaders.sim.entities import CannonState
-from invaders.sim.world import TickReport, World
+from invaders.engine.body import Body, Kind
+from invaders.game import art
+from invaders.game.entities import CannonState
+from invaders.game.tuning import kind_masks
+from invaders.game.world import TickReport, World
 
 # Every picture mask a kind can show (shields, which erode, aside).
 SHARED_MASKS = kind_masks()

@@ -7,12 +7,12 @@ import random
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from invaders import art
-from invaders.autopilot import Autopilot
-from invaders.collision.body import Body, Kind
-from invaders.collision.broadphase import Brute, Grid, SortAndSweep
-from invaders.collision.pipeline import Detector
-from invaders.sim.world import World
+from invaders.engine.body import Body, Kind
+from invaders.engine.broadphase import Brute, Grid, SortAndSweep
+from invaders.engine.detector import Detector
+from invaders.game import art
+from invaders.game.world import World
+from invaders.lab.autopilot import Autopilot
 from tests.helpers import SHARED_MASKS, Scene, active_world
 
 

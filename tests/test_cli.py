@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from invaders.cli import main
+from invaders.app.cli import main
 
 HEX = re.compile(r"^[0-9a-f]{32}$")
 

@@ -13,16 +13,16 @@ FORBIDDEN = re.compile(
 
 
 def test_the_simulation_and_the_pipeline_read_no_clock_and_touch_no_display():
-    for folder in ("sim", "collision"):
+    for folder in ("game", "engine"):
         for path in (ROOT / "invaders" / folder).glob("*.py"):
             for number, line in enumerate(path.read_text().splitlines(), 1):
                 assert not FORBIDDEN.search(line), f"{path.name}:{number}: {line.strip()}"
 
 
 def test_the_world_owns_the_only_generator():
-    text = (ROOT / "invaders" / "sim" / "world.py").read_text()
+    text = (ROOT / "invaders" / "game" / "world.py").read_text()
     assert "random.Random(seed)" in text
-    for path in (ROOT / "invaders" / "sim").glob("*.py"):
+    for path in (ROOT / "invaders" / "game").glob("*.py"):
         if path.name != "world.py":
             assert "import random" not in path.read_text(), path.name
 

@@ -3,11 +3,11 @@ footprint. Expected shields are worked out from the ASCII art alone, independent
 
 from __future__ import annotations
 
-from invaders import art
-from invaders.sim.actions import Action
-from invaders.sim.entities import Bomb, BombType
-from invaders.sim.events import Event
-from invaders.sim.world import World
+from invaders.game import art
+from invaders.game.actions import Action
+from invaders.game.entities import Bomb, BombType
+from invaders.game.events import Event
+from invaders.game.world import World
 from tests.helpers import active_world, mask_rows, step_until
 
 # A shot fired from x=40 rises into the arch of the first shield (x=32, y=192), meets lit

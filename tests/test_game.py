@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import itertools
 
-from invaders.config import DEFAULT_CONFIG
-from invaders.sim import bombs
-from invaders.sim.actions import Action
-from invaders.sim.entities import Bomb, BombType, CannonState, Shot
-from invaders.sim.events import Event
-from invaders.sim.saucer import score_for
-from invaders.sim.world import Phase, World
+from invaders.game import bombs
+from invaders.game.actions import Action
+from invaders.game.config import DEFAULT_CONFIG
+from invaders.game.entities import Bomb, BombType, CannonState, Shot
+from invaders.game.events import Event
+from invaders.game.saucer import score_for
+from invaders.game.world import Phase, World
 from tests.helpers import active_world, step_until
 
 G = DEFAULT_CONFIG.geometry

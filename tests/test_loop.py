@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from invaders.loop import FixedStepLoop
+from invaders.app.loop import FixedStepLoop
 
 
 class FakeClock:

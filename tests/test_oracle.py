@@ -6,15 +6,15 @@ from pathlib import Path
 
 import pytest
 
-from invaders import art
-from invaders.collision.body import Body, Kind
-from invaders.collision.broadphase import Brute
-from invaders.collision.pipeline import Detector, make_detector
-from invaders.collision.rules import RULES, Motion, PairRule, Shape
-from invaders.replay import load
-from invaders.sim.world import World
-from invaders.study.oracle import true_contacts
-from invaders.study.shadow import ShadowDetector
+from invaders.engine.body import Body, Kind
+from invaders.engine.broadphase import Brute
+from invaders.engine.detector import Detector, make_detector
+from invaders.engine.rules import RULES, Motion, PairRule, Shape
+from invaders.game import art
+from invaders.game.replay import load
+from invaders.game.world import World
+from invaders.lab.oracle import true_contacts
+from invaders.lab.shadow import ShadowDetector
 from tests.helpers import Scene
 
 REPLAYS = sorted((Path(__file__).resolve().parents[1] / "replays").glob("*.json"))
@@ -50,7 +50,7 @@ def test_discrete_tests_are_late_or_miss_in_real_games():
 def test_rect_tests_report_false_contacts_in_the_shield_arch_and_alien_corners():
     bunker = Body(1, Kind.BUNKER, 100, 100, art.fresh_mask(art.BUNKER))
     in_arch = Body(2, Kind.SHOT, 110, 112, art.mask_of(art.SHOT))  # rows 12-15, cols 7-13 empty
-    from invaders.sim.entities import ALIEN_MASKS
+    from invaders.game.entities import ALIEN_MASKS
 
     alien = Body(3, Kind.ALIEN, 20, 20, ALIEN_MASKS[4][0])  # 8-px-wide picture in a 16-px box
     in_corner = Body(4, Kind.SHOT, 21, 28, art.mask_of(art.SHOT))  # box col 1: empty

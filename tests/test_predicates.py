@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import itertools
 
-from invaders.collision import predicates
+from invaders.engine import predicates
 from tests.helpers import mask
 
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pygame
 
-from invaders import art
-from invaders.cli import main
-from invaders.render import Renderer
+from invaders.app.cli import main
+from invaders.app.render import Renderer
+from invaders.game import art
 from tests.helpers import active_world
 
 

@@ -15,12 +15,12 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from invaders.autopilot import Autopilot
-from invaders.cli import main
-from invaders.collision.pipeline import make_detector
-from invaders.play import Session, open_window
-from invaders.replay import Replay, ReplayError, load, parse, record_headless, run
-from invaders.sim.world import World
+from invaders.app.cli import main
+from invaders.app.play import Session, open_window
+from invaders.engine.detector import make_detector
+from invaders.game.replay import Replay, ReplayError, load, parse, record_headless, run
+from invaders.game.world import World
+from invaders.lab.autopilot import Autopilot
 
 TICKS = 1500
 
@@ -96,7 +96,7 @@ def test_fresh_processes_agree_with_this_one(replay_file, tmp_path):
 
 def test_a_recording_made_in_a_window_replays_headless_to_the_same_hash():
     world = World(seed=2)
-    from invaders.replay import Recorder
+    from invaders.game.replay import Recorder
 
     recorder = Recorder(world)
     clock = FakeClock()

@@ -6,13 +6,13 @@ import itertools
 
 import pytest
 
-from invaders.autopilot import Autopilot
-from invaders.collision.body import Kind
-from invaders.collision.broadphase import Grid
-from invaders.collision.pipeline import Detector
-from invaders.collision.rules import NEVER, POSITIONAL, RULES, Motion, rule_for
-from invaders.collision.tuning import cheapest_rules, discrete_miss, kind_masks, kind_moves
-from invaders.sim.world import World
+from invaders.engine.body import Kind
+from invaders.engine.broadphase import Grid
+from invaders.engine.detector import Detector
+from invaders.engine.rules import NEVER, POSITIONAL, RULES, Motion, rule_for
+from invaders.game.tuning import cheapest_rules, discrete_miss, kind_masks, kind_moves
+from invaders.game.world import World
+from invaders.lab.autopilot import Autopilot
 
 
 def test_every_pair_of_kinds_is_either_tested_or_excluded_with_a_reason():

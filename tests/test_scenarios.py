@@ -7,11 +7,11 @@ from pathlib import Path
 
 import pytest
 
-from invaders.collision.body import Kind
-from invaders.config import DEFAULT_CONFIG
-from invaders.replay import load
-from invaders.sim.events import Event
-from invaders.sim.world import World
+from invaders.engine.body import Kind
+from invaders.game.config import DEFAULT_CONFIG
+from invaders.game.events import Event
+from invaders.game.replay import load
+from invaders.game.world import World
 
 REPLAYS = Path(__file__).resolve().parents[1] / "replays"
 

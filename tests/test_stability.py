@@ -8,13 +8,13 @@ from pathlib import Path
 import pygame
 import pytest
 
-from invaders.collision.body import Body, Kind
-from invaders.collision.broadphase import Brute, Grid
-from invaders.collision.pipeline import Detector
-from invaders.collision.rules import Motion, PairRule, Shape
-from invaders.play import Session
-from invaders.replay import load, run
-from invaders.study.methods import circles, corners_inside, rect
+from invaders.app.play import Session
+from invaders.engine.body import Body, Kind
+from invaders.engine.broadphase import Brute, Grid
+from invaders.engine.detector import Detector
+from invaders.engine.rules import Motion, PairRule, Shape
+from invaders.game.replay import load, run
+from invaders.lab.methods import circles, corners_inside, rect
 from tests.helpers import Scene
 
 BAR_RULE = (PairRule(Kind.SHOT, Kind.BUNKER, Shape.BOX, Shape.MASK, Motion.DISCRETE, None,
@@ -65,7 +65,7 @@ def test_bounding_circles_report_boxes_that_are_apart():
 
 
 def _big_scene() -> list[Body]:
-    from invaders import art
+    from invaders.game import art
 
     bodies = []
     # A shield far larger than a small cell, a shot just inside its edge and one touching it
@@ -95,7 +95,7 @@ def test_a_stall_of_seconds_changes_nothing_but_the_pace():
     path = Path(__file__).resolve().parents[1] / "replays" / "cannon-death.json"
     replay = load(path)
     expected, _ = run(replay)
-    from invaders.sim.world import World
+    from invaders.game.world import World
 
     world = World(replay.seed, replay.config)
     now = [0.0]

@@ -8,11 +8,11 @@ from pathlib import Path
 import pygame
 import pytest
 
-from invaders.cli import main
-from invaders.study import charts
-from invaders.study.matrix import Method
-from invaders.study.plan import Plan, execute
-from invaders.study.runner import SceneSpec
+from invaders.app.cli import main
+from invaders.lab import charts
+from invaders.lab.matrix import Method
+from invaders.lab.plan import Plan, execute
+from invaders.lab.runner import SceneSpec
 
 REPLAYS = Path(__file__).resolve().parents[1] / "replays"
 # Fields that depend on timing: speeds, and which broad phase an automatic choice made.

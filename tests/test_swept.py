@@ -5,12 +5,12 @@ from __future__ import annotations
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from invaders import art
-from invaders.collision.body import Body, Kind
-from invaders.collision.broadphase import Brute, Grid
-from invaders.collision.pipeline import Detector
-from invaders.collision.rules import RULES, Motion, PairRule
-from invaders.sim.entities import BOMB_MASKS, BombType
+from invaders.engine.body import Body, Kind
+from invaders.engine.broadphase import Brute, Grid
+from invaders.engine.detector import Detector
+from invaders.engine.rules import RULES, Motion, PairRule
+from invaders.game import art
+from invaders.game.entities import BOMB_MASKS, BombType
 from tests.helpers import Scene
 
 DISCRETE_RULES = tuple(

@@ -1,0 +1,238 @@
+"""Command line: parse, call, report. Exit codes: 0 ok, 1 a check failed, 2 bad input or usage."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from typing import NoReturn
+
+from invaders import __version__
+from invaders.engine.broadphase import BROADPHASES, DEFAULT_CELL
+from invaders.lab.autopilot import STYLES
+
+MAX_TICKS = 100_000_000
+
+
+class UsageError(Exception):
+    """Bad input from the user: reported as one line, exit 2."""
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line naming the problem, not a usage block."""
+
+    def error(self, message: str) -> NoReturn:
+        raise UsageError(message)
+
+
+def _int_in(name: str, low: int, high: int):
+    def parse(text: str) -> int:
+        try:
+            value = int(text, 0)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{name} must be a whole number, not {text!r}") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(
+                f"{name} must be between {low} and {high}, not {value}")
+        return value
+
+    return parse
+
+
+def build_parser() -> Parser:
+    parser = Parser(prog="invaders", description=__doc__)
+    parser.add_argument("--version", action="version", version=f"invaders {__version__}")
+    sub = parser.add_subparsers(dest="command", parser_class=Parser)
+
+    play = sub.add_parser("play", help="play in a window")
+    play.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0)
+    play.add_argument("--scale", type=_int_in("--scale", 1, 8), default=3)
+    play.add_argument("--broadphase", choices=BROADPHASES, default="grid")
+    play.add_argument("--screenshot", metavar="FILE",
+                      help="run headless for --ticks with the autopilot, save the window as PNG")
+    play.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=600)
+    play.add_argument("--overlay", action="store_true", help="start with the debug overlay on")
+    play.add_argument("--record", metavar="FILE", help="record the game as a replay (JSON)")
+    play.add_argument("--replay", metavar="FILE", help="watch a replay instead of playing")
+    play.add_argument("--speed", type=_int_in("--speed", 1, 64), default=1,
+                      help="replay speed multiplier")
+
+    run = sub.add_parser("run", help="run headless and print a summary and the state hash")
+    run.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=3600)
+    run.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0)
+    run.add_argument("--autopilot", nargs="?", const="hunter", choices=sorted(STYLES),
+                     metavar="STYLE",
+                     help="let the built-in player play: hunter (default), expert, pacifist")
+    run.add_argument("--broadphase", choices=BROADPHASES, default="grid")
+    run.add_argument("--cell", type=_int_in("--cell", 1, 1024), default=DEFAULT_CELL,
+                     help="grid cell size in px")
+    run.add_argument("--report", metavar="FILE", help="per-tick counters, .csv or .jsonl")
+    run.add_argument("--record", metavar="FILE", help="save the run as a replay (JSON)")
+
+    check = sub.add_parser("replay", help="run replays headless and check their checkpoints")
+    check.add_argument("paths", nargs="+", metavar="PATH", help="replay files or folders")
+    check.add_argument("--update", action="store_true",
+                       help="rewrite the expected checkpoints (after an intended rule change)")
+    check.add_argument("--broadphase", choices=BROADPHASES, default="grid")
+
+    study = sub.add_parser("study", help="speed against accuracy: the method matrix, charts")
+    study.add_argument("--quick", action="store_true", help="a smaller matrix (under a minute)")
+    study.add_argument("--jobs", type=_int_in("--jobs", 1, 64), default=1,
+                       help="run scenes in this many processes")
+    study.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run scenes on a Dask cluster (the [study] extra)")
+    study.add_argument("--out", metavar="FOLDER", default="study",
+                       help="where study.csv, scaling.csv and the charts go")
+    study.add_argument("--replays", metavar="FOLDER", default="replays",
+                       help="the replays to study (*.json)")
+
+    bench = sub.add_parser("bench", help="time the pipeline against references, as ratios")
+    bench.add_argument("--ticks", type=_int_in("--ticks", 60, MAX_TICKS), default=3600)
+    bench.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=7)
+    bench.add_argument("--repeat", type=_int_in("--repeat", 1, 100), default=3)
+    return parser
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from invaders.app.headless import Idle, run, use_dummy_drivers
+
+    use_dummy_drivers()
+    from invaders.app.report import report_format
+    from invaders.app.summary import summary_lines
+    from invaders.engine.detector import make_detector
+    from invaders.game.world import World
+    from invaders.lab.autopilot import Autopilot
+
+    if args.report is not None:
+        try:
+            report_format(args.report)
+        except ValueError as err:
+            raise UsageError(str(err)) from None
+    world = World(seed=args.seed, detector=make_detector(args.broadphase, args.cell))
+    source = Autopilot(args.seed, args.autopilot) if args.autopilot else Idle()
+    recorder = None
+    if args.record is not None:
+        from invaders.game.replay import Recorder
+
+        _check_writable(args.record, "replay")
+        recorder = Recorder(world, args.record, save_every=3600)
+    try:
+        result = run(world, source, args.ticks, args.report, recorder)
+    except OSError as err:
+        raise UsageError(f"cannot write report {args.report!r}: {err.strerror}") from None
+    finally:
+        if recorder is not None:
+            recorder.save()
+    name = f"autopilot {args.autopilot}" if args.autopilot else "none"
+    for line in summary_lines(result, args.seed, args.broadphase, name):
+        print(line)
+    print(world.state_hash())
+    return 0
+
+
+def _check_writable(path: str, what: str) -> None:
+    """Fail early, in one line, if a file cannot be written where asked."""
+    import os
+
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise UsageError(f"cannot write {what} {path!r}: no such folder")
+    if os.path.isdir(path):
+        raise UsageError(f"cannot write {what} {path!r}: it is a folder")
+
+
+def cmd_play(args: argparse.Namespace) -> int:
+    from invaders.app.play import play, screenshot
+
+    if args.screenshot:
+        return screenshot(args.screenshot, seed=args.seed, ticks=args.ticks, scale=args.scale,
+                          overlay=args.overlay, broadphase=args.broadphase)
+    replay = None
+    if args.replay:
+        from invaders.game.replay import ReplayError, load
+
+        try:
+            replay = load(args.replay)
+        except ReplayError as err:
+            raise UsageError(f"{args.replay}: {err}") from None
+    if args.record:
+        _check_writable(args.record, "replay")
+    import pygame
+
+    try:
+        return play(seed=args.seed, scale=args.scale, broadphase=args.broadphase,
+                    overlay=args.overlay, record=args.record, replay=replay, speed=args.speed)
+    except KeyboardInterrupt:
+        return 130
+    except pygame.error as err:
+        raise UsageError(f"cannot open a window ({err}); without a display, use "
+                         "'invaders run' or set SDL_VIDEODRIVER=dummy") from None
+
+
+def cmd_replay(args: argparse.Namespace) -> int:
+    from invaders.app.headless import use_dummy_drivers
+
+    use_dummy_drivers()
+    from invaders.app.replay_check import check_all
+
+    return check_all(args.paths, update=args.update, broadphase=args.broadphase)
+
+
+def cmd_bench(args: argparse.Namespace) -> int:
+    from invaders.app.headless import use_dummy_drivers
+
+    use_dummy_drivers()
+    from invaders.lab.bench import bench
+
+    return bench(ticks=args.ticks, seed=args.seed, repeat=args.repeat)
+
+
+def cmd_study(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from invaders.app.headless import use_dummy_drivers
+
+    use_dummy_drivers()
+    replays = Path(args.replays)
+    if not replays.is_dir() or not any(replays.glob("*.json")):
+        raise UsageError(f"--replays {args.replays!r}: no folder of replay files (*.json)")
+    if args.scheduler:
+        try:
+            import dask.distributed  # noqa: F401
+        except ImportError:
+            raise UsageError("--scheduler needs Dask: pip install 'invaders[study]'") from None
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise UsageError(f"--out {args.out!r} is a file, not a folder")
+    from invaders.lab.plan import study
+
+    return study(out, replays, quick=args.quick, jobs=args.jobs, scheduler=args.scheduler)
+
+
+COMMANDS = {"run": cmd_run, "play": cmd_play, "bench": cmd_bench, "replay": cmd_replay,
+            "study": cmd_study}
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    try:
+        args = build_parser().parse_args(argv)
+        if args.command is None:
+            args = build_parser().parse_args(["play", *argv])
+        return COMMANDS[args.command](args)
+    except UsageError as err:
+        print(f"invaders: error: {err}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("invaders: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:  # the reader went away (| head): stop quietly
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,70 @@
+"""Headless runs: no window, no clock; a world, an input source, and what the run measured."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+from collections import Counter
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from typing import Protocol
+
+from invaders.app.report import CounterTable, ReportWriter, report_format
+from invaders.atomic import atomic_writer
+from invaders.game.replay import Recorder
+from invaders.game.world import World
+
+
+def use_dummy_drivers() -> None:
+    """Select SDL's dummy video and audio drivers, so nothing needs a display or a sound card."""
+    os.environ["SDL_VIDEODRIVER"] = "dummy"
+    os.environ["SDL_AUDIODRIVER"] = "dummy"
+
+
+class InputSource(Protocol):
+    def actions(self, world: World) -> int: ...
+
+
+class Idle:
+    """No one at the controls."""
+
+    def actions(self, world: World) -> int:
+        return 0
+
+
+@dataclass
+class RunResult:
+    world: World
+    table: CounterTable
+    events: Counter = field(default_factory=Counter)
+
+
+def run(world: World, source: InputSource, ticks: int, report: str | None = None,
+        recorder: Recorder | None = None) -> RunResult:
+    """Step `world` `ticks` times with `source`'s input; optionally write the per-tick report
+    (atomically: the file appears whole when the run ends) and record the run as a replay."""
+    table = CounterTable(ticks)
+    events: Counter = Counter()
+    with _report(report) as writer:
+        for _ in range(ticks):
+            bits = source.actions(world)
+            result = world.step(bits)
+            if recorder is not None:
+                recorder.tick(bits)
+            table.add(result.stats)
+            names = tuple(e.name for e in result.events) if result.events else ()
+            if names:
+                events.update(names)
+            if writer is not None:
+                writer.row(result.tick, result.stats, names)
+    return RunResult(world, table, events)
+
+
+@contextlib.contextmanager
+def _report(path: str | None) -> Iterator[ReportWriter | None]:
+    if path is None:
+        yield None
+        return
+    fmt = report_format(path)
+    with atomic_writer(path) as handle:
+        yield ReportWriter(handle, fmt)

@@ -1,0 +1,156 @@
+"""The windowed game: keyboard (or a replay) -> actions, the fixed-step loop, the renderer.
+
+`Session` does one frame's work at a time and takes its clock from outside, so tests drive
+the real windowed code with a fake clock at any frame rate (dummy video driver).
+"""
+
+from __future__ import annotations
+
+import signal
+import time
+from collections.abc import Callable, Iterator
+
+import pygame
+
+from invaders.app.loop import FixedStepLoop
+from invaders.app.render import Renderer
+from invaders.atomic import atomic_path
+from invaders.engine.detector import make_detector
+from invaders.engine.stats import CollisionStats
+from invaders.game.actions import Action
+from invaders.game.config import SCREEN_H, SCREEN_W
+from invaders.game.replay import Recorder, Replay
+from invaders.game.world import World
+from invaders.lab.autopilot import Autopilot
+
+LEFT_KEYS = (pygame.K_LEFT, pygame.K_a)
+RIGHT_KEYS = (pygame.K_RIGHT, pygame.K_d)
+FIRE_KEYS = (pygame.K_SPACE,)
+START_KEYS = (pygame.K_RETURN, pygame.K_KP_ENTER, pygame.K_1)
+MAX_FPS = 240  # render at the display's pace, but never spin faster than this
+SAVE_EVERY = 180  # ticks between autosaves of a recording (3 s)
+
+
+def keyboard_actions(pressed) -> int:
+    """This frame's held keys as input bits."""
+    bits = Action.NONE
+    if any(pressed[k] for k in LEFT_KEYS):
+        bits |= Action.LEFT
+    if any(pressed[k] for k in RIGHT_KEYS):
+        bits |= Action.RIGHT
+    if any(pressed[k] for k in FIRE_KEYS):
+        bits |= Action.FIRE
+    if any(pressed[k] for k in START_KEYS):
+        bits |= Action.START
+    return int(bits)
+
+
+class Session:
+    """A game in a window: one `frame()` per displayed frame."""
+
+    def __init__(self, world: World, target: pygame.Surface, clock: Callable[[], float],
+                 scale: int = 3, replay: Replay | None = None, speed: int = 1,
+                 recorder: Recorder | None = None, overlay: bool = False) -> None:
+        self.world = world
+        self.target = target
+        self.loop = FixedStepLoop(clock, world.config.tick_hz * speed,
+                                  max_catch_up=5 * speed)
+        self.renderer = Renderer(scale)
+        self.inputs: Iterator[int] | None = replay.actions() if replay else None
+        self.replay_done = False
+        self.recorder = recorder
+        self.overlay = overlay
+        self.paused = False
+        self.stats: CollisionStats | None = None
+
+    def handle(self, event: pygame.event.Event) -> bool:
+        """React to one window event; False means quit."""
+        if event.type == pygame.QUIT:
+            return False
+        if event.type == pygame.KEYDOWN:
+            if event.key == pygame.K_ESCAPE:
+                return False
+            if event.key == pygame.K_p:
+                self.paused = not self.paused
+                self.loop.resume()
+            elif event.key == pygame.K_F3:
+                self.overlay = not self.overlay
+        return True
+
+    def frame(self, held: int) -> None:
+        """Run the ticks real time has banked (with `held` keys, unless watching a replay),
+        then draw."""
+        ticks, alpha = (0, 0.0) if self.paused or self.replay_done else self.loop.frame()
+        for _ in range(ticks):
+            bits = held
+            if self.inputs is not None:
+                bits = next(self.inputs, None)
+                if bits is None:
+                    self.replay_done = True
+                    break
+            self.stats = self.world.step(bits).stats
+            if self.recorder is not None:
+                self.recorder.tick(bits)
+        self.renderer.draw(self.target, self.world, alpha, self.overlay, self.stats,
+                           self.paused)
+
+
+def open_window(scale: int) -> pygame.Surface:
+    pygame.display.init()
+    window = pygame.display.set_mode((SCREEN_W * scale, SCREEN_H * scale))
+    pygame.display.set_caption("invaders  (arrows/A D move, space fires, P pause, F3 overlay)")
+    return window
+
+
+def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool = False,
+         record: str | None = None, replay: Replay | None = None, speed: int = 1) -> int:
+    """Open a window and play (or watch a replay) until Esc or the window closes.
+
+    A recording is saved every few seconds and again on quit, window close, Ctrl-C or an
+    error, always atomically: at worst the last few seconds are lost, never the file.
+    """
+    if replay is not None:
+        world = World(replay.seed, replay.config, detector=make_detector(broadphase))
+    else:
+        world = World(seed=seed, detector=make_detector(broadphase))
+    recorder = Recorder(world, record, SAVE_EVERY) if record else None
+    window = open_window(scale)
+    session = Session(world, window, time.perf_counter, scale, replay, speed, recorder,
+                      overlay)
+    previous = signal.signal(signal.SIGTERM, _raise_interrupt)
+    frame_clock = pygame.time.Clock()
+    try:
+        while all(session.handle(event) for event in pygame.event.get()):
+            session.frame(keyboard_actions(pygame.key.get_pressed()))
+            pygame.display.flip()
+            frame_clock.tick(MAX_FPS)
+        return 0
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+        if recorder is not None:
+            recorder.save()
+            print(f"saved {record}: {recorder.replay.ticks} ticks")
+        pygame.display.quit()
+
+
+def _raise_interrupt(signum, frame) -> None:
+    raise KeyboardInterrupt
+
+
+def screenshot(path: str, seed: int = 0, ticks: int = 600, scale: int = 3,
+               overlay: bool = False, broadphase: str = "grid") -> int:
+    """Play `ticks` ticks headless with the autopilot, then save the window as a PNG."""
+    from invaders.app.headless import use_dummy_drivers
+
+    use_dummy_drivers()
+    world = World(seed=seed, detector=make_detector(broadphase))
+    pilot = Autopilot(seed)
+    stats = None
+    for _ in range(ticks):
+        stats = world.step(pilot.actions(world)).stats
+    target = pygame.Surface((SCREEN_W * scale, SCREEN_H * scale))
+    Renderer(scale).draw(target, world, 0.0, overlay, stats)
+    with atomic_path(path) as tmp:
+        pygame.image.save(target, tmp)
+    print(f"saved {path} after {ticks} ticks (seed {seed})")
+    return 0

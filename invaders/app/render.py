@@ -1,0 +1,186 @@
+"""Draws a World at any integer scale; never writes it. Debug overlay: grid, pairs, counters.
+
+Everything is drawn in white on the logical 224x256 screen, tinted by the cabinet's coloured
+gel strips (red over the saucer lane, green over the shields and the cannon), then scaled.
+The overlay is drawn after scaling so its lines and text stay sharp.
+"""
+
+from __future__ import annotations
+
+import pygame
+
+from invaders.app import font
+from invaders.engine.broadphase import Grid
+from invaders.engine.stats import CollisionStats
+from invaders.game import art
+from invaders.game.config import SCREEN_H, SCREEN_W
+from invaders.game.entities import BOMB_PICTURES, CannonState
+from invaders.game.world import Phase, World
+
+WHITE = (255, 255, 255, 255)
+BACKGROUND = (0, 0, 0)
+RED_GEL = (255, 64, 64)
+GREEN_GEL = (64, 255, 64)
+GRID_COLOUR = (60, 90, 160)
+PAIR_COLOUR = (255, 220, 0)
+CONTACT_COLOUR = (255, 0, 255)
+
+
+def gel_surface() -> pygame.Surface:
+    """Per-row tint: the cabinet's strips of coloured film over a white monitor."""
+    gel = pygame.Surface((SCREEN_W, SCREEN_H))
+    gel.fill((255, 255, 255))
+    gel.fill(RED_GEL, pygame.Rect(0, 32, SCREEN_W, 32))
+    gel.fill(GREEN_GEL, pygame.Rect(0, 184, SCREEN_W, 56))
+    gel.fill(GREEN_GEL, pygame.Rect(24, 240, 112, 16))
+    return gel
+
+
+class Renderer:
+    """Keeps sprite surfaces and the gel; `draw` paints one frame onto a target surface."""
+
+    def __init__(self, scale: int = 3) -> None:
+        self.scale = scale
+        self.screen = pygame.Surface((SCREEN_W, SCREEN_H))
+        self.gel = gel_surface()
+        self._sprites: dict[art.Art, pygame.Surface] = {}
+        self._font: pygame.font.Font | None = None
+
+    def sprite(self, picture: art.Art) -> pygame.Surface:
+        surface = self._sprites.get(picture)
+        if surface is None:
+            surface = self._sprites[picture] = art.surface_of(picture, WHITE)
+        return surface
+
+    def text(self, message: str, x: int, y: int) -> None:
+        for i, ch in enumerate(message):
+            self.screen.blit(self.sprite(font.glyph(ch)), (x + i * font.ADVANCE, y))
+
+    def draw(self, target: pygame.Surface, world: World, alpha: float = 0.0,
+             overlay: bool = False, stats: CollisionStats | None = None,
+             paused: bool = False) -> None:
+        """Paint the world (movers interpolated by `alpha` of a tick) onto `target`."""
+        screen = self.screen
+        screen.fill(BACKGROUND)
+        self._draw_hud(world)
+        self._draw_play(world, alpha)
+        if world.phase is Phase.GAME_OVER:
+            self.text("GAME OVER", 76, 152)
+            self.text("PRESS ENTER", 68, 168)
+        if paused:
+            self.text("PAUSED", 88, 152)
+        screen.blit(self.gel, (0, 0), special_flags=pygame.BLEND_RGB_MULT)
+        if target.get_size() == screen.get_size():
+            target.blit(screen, (0, 0))
+        else:
+            pygame.transform.scale(screen, target.get_size(), target)
+        if overlay:
+            self._draw_overlay(target, world, stats)
+
+    def _draw_hud(self, world: World) -> None:
+        self.text("SCORE<1> HI-SCORE", 8, 8)
+        self.text(f"{world.score:04d}", 24, 24)
+        self.text(f"{max(world.hi_score, world.score):04d}", 88, 24)
+        self.text(f"WAVE {world.wave}", 160, 24)
+        for x in range(SCREEN_W):
+            if world.ground.get_at((x, 0)):
+                self.screen.set_at((x, world.config.geometry.ground_row), WHITE)
+        ships = max(world.ships, 0)
+        self.text(str(ships), 8, 241)
+        cannon = self.sprite(art.CANNON)
+        for i in range(min(ships - 1, 6)):
+            self.screen.blit(cannon, (24 + 16 * i, 240))
+
+    def _draw_play(self, world: World, alpha: float) -> None:
+        blit = self.screen.blit
+        for bunker in world.bunkers:
+            surface = bunker.mask.to_surface(setcolor=WHITE, unsetcolor=(0, 0, 0, 0))
+            blit(surface, (bunker.x, bunker.y))
+        for alien in world.rack.live_aliens():
+            pictures = art.ALIEN_BY_ROW[alien.row]
+            blit(self.sprite(pictures[alien.frame]), (alien.x, alien.top))
+        for explosion in world.explosions:
+            picture = art.ALIEN_EXPLOSION if explosion.blast.value == "alien" else art.SHOT_BURST
+            blit(self.sprite(picture), (explosion.x, explosion.y))
+        cannon = world.cannon
+        if cannon.state is CannonState.ACTIVE:
+            blit(self.sprite(art.CANNON), (cannon.x, cannon.y))
+        elif cannon.state is CannonState.EXPLODING:
+            frame = (cannon.timer // world.config.timing.cannon_death_swap) % 2
+            blit(self.sprite(art.CANNON_DEATH[frame]), (cannon.x, cannon.y))
+        if world.shot is not None:
+            blit(self.sprite(art.SHOT), _lerp(world.shot, world.tick, alpha))
+        for slot in world.slots:
+            if slot.bomb is not None:
+                picture = BOMB_PICTURES[slot.btype][slot.bomb.frame]
+                blit(self.sprite(picture), _lerp(slot.bomb, world.tick, alpha))
+            elif slot.burst > 0:
+                blit(self.sprite(art.BOMB_BURST), (slot.burst_x, slot.burst_y))
+        state = world.saucer
+        lane = world.config.geometry.saucer_top
+        if state.saucer is not None:
+            blit(self.sprite(art.SAUCER), _lerp(state.saucer, world.tick, alpha))
+        elif state.hit_steps > world.config.timing.saucer_boom_until:
+            blit(self.sprite(art.SAUCER_EXPLOSION), (state.hit_x, lane))
+        elif state.hit_steps > 0:
+            self.text(str(state.hit_score), state.hit_x + 4, lane)
+
+    def _draw_overlay(self, target: pygame.Surface, world: World,
+                      stats: CollisionStats | None) -> None:
+        s = self.scale
+        detector = world.detector
+        broadphase = detector.broadphase
+        if isinstance(broadphase, Grid):
+            step = broadphase.cell * s
+            w, h = target.get_size()
+            for x in range(0, w, step):
+                pygame.draw.line(target, GRID_COLOUR, (x, 0), (x, h))
+            for y in range(0, h, step):
+                pygame.draw.line(target, GRID_COLOUR, (0, y), (w, y))
+        for a_id, b_id in detector.last_pairs:
+            a, b = world.by_id.get(a_id), world.by_id.get(b_id)
+            if a is not None and b is not None:
+                pygame.draw.line(target, PAIR_COLOUR, _centre(a, s), _centre(b, s), 2)
+                for body in (a, b):
+                    pygame.draw.rect(target, PAIR_COLOUR,
+                                     (body.x * s, body.y * s, body.w * s, body.h * s), 1)
+        if self._font is None:
+            pygame.font.init()
+            self._font = pygame.font.Font(None, 7 * s)
+        labels = [self._font.render(line, True, (255, 255, 255))
+                  for line in overlay_lines(world.tick, broadphase, stats)]
+        width = max(label.get_width() for label in labels) + 2 * s
+        height = sum(label.get_height() for label in labels) + 2 * s
+        panel = pygame.Surface((width, height), pygame.SRCALPHA)
+        panel.fill((0, 0, 0, 170))
+        y = s
+        for label in labels:
+            panel.blit(label, (s, y))
+            y += label.get_height()
+        target.blit(panel, (target.get_width() - width - s, 34 * s))
+
+
+def overlay_lines(tick: int, broadphase: object, stats: CollisionStats | None) -> list[str]:
+    """The counters as a few short lines: each pipeline step, what it considered."""
+    name = getattr(broadphase, "name", "?")
+    cell = getattr(broadphase, "cell", None)
+    lines = [f"tick {tick}  {name}" + (f" {cell}px" if cell else "")]
+    if stats is not None:
+        lines += [
+            f"objects {stats.objects}  naive {stats.naive_pairs}",
+            f"rules {stats.allowed_pairs}  broad {stats.candidates}",
+            f"rect {stats.rect_hits}/{stats.rect_tests}  mask {stats.mask_hits}/{stats.mask_tests}",
+            f"swept {stats.swept_tests}  contacts {stats.contacts}",
+        ]
+    return lines
+
+
+def _lerp(body, tick: int, alpha: float) -> tuple[int, int]:
+    """Between the previous tick's position and the current one, `alpha` of the way: the
+    render runs up to one tick behind, but never shows a place the simulation did not."""
+    px, py = body.start_of_tick(tick - 1)
+    return round(px + (body.x - px) * alpha), round(py + (body.y - py) * alpha)
+
+
+def _centre(body, scale: int) -> tuple[int, int]:
+    return (body.x * 2 + body.w) * scale // 2, (body.y * 2 + body.h) * scale // 2

@@ -1,1 +1,0 @@
-"""The four-step collision pipeline: reduce, quick test, thorough test, respond."""

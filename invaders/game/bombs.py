@@ -1,0 +1,91 @@
+"""The three alien bomb types: turns, reload rule, column tables, steps and bursts."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from invaders.game.config import GameConfig
+from invaders.game.entities import BOMB_MASKS, Bomb, BombType
+from invaders.game.rack import Rack
+from invaders.game.registry import Registry
+
+
+@dataclass
+class BombSlot:
+    """One bomb type's object: at most one bomb of each type exists, flying or bursting."""
+
+    btype: BombType
+    bomb: Bomb | None = None
+    steps: int = 0  # steps made since it fired, counted while flying or bursting
+    burst: int = 0  # bomb-steps left of the burst picture
+    burst_x: int = 0
+    burst_y: int = 0
+    table_index: int = 0  # plunger and squiggly column cycles
+    skip_next: bool = False  # rolling skips its first attempt after each reset
+
+    @property
+    def busy(self) -> bool:
+        return self.bomb is not None or self.burst > 0
+
+
+def new_slots() -> list[BombSlot]:
+    return [BombSlot(t) for t in BombType]
+
+
+def reset_slots(slots: list[BombSlot], registry: Registry) -> None:
+    """Clear all bombs (wave start); rolling skips its next attempt."""
+    for slot in slots:
+        if slot.bomb is not None:
+            registry.remove(slot.bomb)
+        slot.bomb = None
+        slot.burst = 0
+        slot.steps = 0
+        slot.skip_next = slot.btype is BombType.ROLLING
+
+
+def reload_ready(slots: list[BombSlot], me: BombSlot, steps_needed: int) -> bool:
+    """A type may fire only if every *other* busy bomb has made more than R steps."""
+    return all(other is me or not other.busy or other.steps > steps_needed for other in slots)
+
+
+def choose_column(slot: BombSlot, config: GameConfig, cannon_centre: int, rack: Rack) -> int | None:
+    """The 0-based column this attempt fires from, or None; advances the table cycles."""
+    rules = config.rules
+    if slot.btype is BombType.ROLLING:
+        col = (cannon_centre - rack.ref_x) // config.geometry.cell
+        return col if 0 <= col < config.geometry.cols else None
+    table = rules.plunger_columns if slot.btype is BombType.PLUNGER else rules.squiggly_columns
+    col = table[slot.table_index] - 1
+    slot.table_index = (slot.table_index + 1) % len(table)
+    return col
+
+
+def spawn(slot: BombSlot, rack: Rack, col: int, registry: Registry) -> Bomb | None:
+    """Drop a bomb from the lowest live alien of `col` (cell x + 7, 10 rows below its top)."""
+    shooter = rack.lowest_in_column(col)
+    if shooter is None:
+        return None
+    bomb = Bomb(registry.new_id(), slot.btype, shooter.x + 7, shooter.top + 10)
+    registry.add(bomb)
+    slot.bomb = bomb
+    slot.steps = 0
+    return bomb
+
+
+def advance(slot: BombSlot, speed: int, registry: Registry) -> None:
+    """One bomb step: down `speed` px, next picture."""
+    bomb = slot.bomb
+    assert bomb is not None
+    slot.steps += 1
+    bomb.frame = (bomb.frame + 1) % 4
+    bomb.mask = BOMB_MASKS[bomb.btype][bomb.frame]
+    bomb.shaped_tick = registry.tick
+    registry.move(bomb, bomb.x, bomb.y + speed)
+
+
+def start_burst(slot: BombSlot, x: int, y: int, steps: int) -> None:
+    """The bomb is gone; its burst picture stays `steps` bomb-steps at (x, y)."""
+    slot.bomb = None
+    slot.burst = steps
+    slot.burst_x = x
+    slot.burst_y = y

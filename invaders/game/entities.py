@@ -1,0 +1,129 @@
+"""The game's things. Collidable ones are Bodies; explosions are timers with a picture."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum, IntEnum
+
+import pygame
+
+from invaders.engine.body import Body, Kind
+from invaders.game import art
+
+
+def footprint_mask(picture: art.Art) -> pygame.mask.Mask:
+    """An alien's 16x16 draw footprint: 8 blank rows above its 16x8 picture.
+
+    The original draws each alien as two bytes per column, its picture and the 8 px above it,
+    which clears that area: that is how low aliens chew through the shields.
+    """
+    return art.mask_of(("." * 16,) * 8 + picture)
+
+
+ALIEN_MASKS = tuple(tuple(footprint_mask(p) for p in pics) for pics in art.ALIEN_BY_ROW)
+
+
+class Alien(Body):
+    """One rack member. Its body is the draw footprint; (x, y + 8) is its picture's corner."""
+
+    __slots__ = ("col", "frame", "index", "row")
+
+    def __init__(self, body_id: int, index: int, x: int, top: int, frame: int) -> None:
+        self.index = index
+        self.row, self.col = divmod(index, 11)
+        self.frame = frame
+        super().__init__(body_id, Kind.ALIEN, x, top - 8, ALIEN_MASKS[self.row][frame])
+
+    @property
+    def top(self) -> int:
+        """First row of the picture (the footprint starts 8 rows higher)."""
+        return self.y + 8
+
+
+class CannonState(IntEnum):
+    WAITING = 0
+    ACTIVE = 1
+    EXPLODING = 2
+
+
+class Cannon(Body):
+    """The player's base. Collidable only while ACTIVE."""
+
+    __slots__ = ("state", "timer")
+
+    def __init__(self, body_id: int, x: int, top: int) -> None:
+        super().__init__(body_id, Kind.CANNON, x, top, art.mask_of(art.CANNON))
+        self.state = CannonState.WAITING
+        self.timer = 0
+
+
+class Shot(Body):
+    """The player's single shot: its lit 1x4, so the box is the shape."""
+
+    __slots__ = ()
+
+    def __init__(self, body_id: int, x: int, top: int) -> None:
+        super().__init__(body_id, Kind.SHOT, x, top, art.mask_of(art.SHOT))
+
+
+class BombType(IntEnum):
+    """Value = the tick (mod 3) of the type's turn; squiggly shares its turn with the saucer."""
+
+    ROLLING = 0
+    PLUNGER = 1
+    SQUIGGLY = 2
+
+
+BOMB_PICTURES = {
+    BombType.ROLLING: art.BOMB_ROLLING,
+    BombType.PLUNGER: art.BOMB_PLUNGER,
+    BombType.SQUIGGLY: art.BOMB_SQUIGGLY,
+}
+BOMB_MASKS = {t: tuple(art.mask_of(p) for p in pics) for t, pics in BOMB_PICTURES.items()}
+
+
+class Bomb(Body):
+    """An alien bomb: a 3x8 box with four pictures that cycle as it steps."""
+
+    __slots__ = ("btype", "frame")
+
+    def __init__(self, body_id: int, btype: BombType, x: int, y: int) -> None:
+        super().__init__(body_id, Kind.BOMB, x, y, BOMB_MASKS[btype][0])
+        self.btype = btype
+        self.frame = 0
+
+
+class Bunker(Body):
+    """A shield: static, with a mask of its own that erodes."""
+
+    __slots__ = ()
+
+    def __init__(self, body_id: int, x: int, y: int) -> None:
+        super().__init__(body_id, Kind.BUNKER, x, y, art.fresh_mask(art.BUNKER))
+
+
+class Saucer(Body):
+    """The mystery ship, in its lane."""
+
+    __slots__ = ("dx",)
+
+    def __init__(self, body_id: int, x: int, y: int, dx: int) -> None:
+        super().__init__(body_id, Kind.SAUCER, x, y, art.mask_of(art.SAUCER))
+        self.dx = dx
+
+
+class Blast(Enum):
+    """Explosion pictures that live on a timer of their own."""
+
+    ALIEN = "alien"
+    SHOT = "shot"
+
+
+@dataclass
+class Explosion:
+    """A picture shown for `ttl` more ticks (and, for aliens, the rack waits for it)."""
+
+    blast: Blast
+    x: int
+    y: int
+    ttl: int

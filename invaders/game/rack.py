@@ -1,0 +1,115 @@
+"""The 5x11 alien rack: one alien redrawn per tick, the reference alien moving at each wrap."""
+
+from __future__ import annotations
+
+from invaders.game import art
+from invaders.game.config import GameConfig
+from invaders.game.entities import ALIEN_MASKS, Alien
+from invaders.game.registry import Registry
+
+
+class Rack:
+    """Aliens sit at (ref_x + 16c, ref_top - 16r) *as of their last draw*.
+
+    The cursor walks live aliens in index order (row * 11 + col, bottom-left first), drawing
+    one per tick; past the last live one the reference alien steps (dx, and 8 down after an
+    edge bump) and the picture frame toggles. N live aliens therefore take N ticks a step.
+    """
+
+    def __init__(self, config: GameConfig, top: int, registry: Registry) -> None:
+        g = config.geometry
+        self.config = config
+        self.ref_x = g.rack_left
+        self.ref_top = top
+        self.dx = config.speeds.rack_step
+        self.frame = 0
+        self.cursor = 0
+        self.aliens: list[Alien | None] = []
+        for index in range(g.rows * g.cols):
+            row, col = divmod(index, g.cols)
+            alien = Alien(registry.new_id(), index, self.ref_x + g.cell * col,
+                          top - g.cell * row, 0)
+            registry.add(alien)
+            self.aliens.append(alien)
+        self.live = len(self.aliens)
+
+    def live_aliens(self) -> list[Alien]:
+        """Live aliens in index order."""
+        return [a for a in self.aliens if a is not None]
+
+    def lowest_in_column(self, col: int) -> Alien | None:
+        """The shooter of a column: its lowest live alien, or None if the column is empty."""
+        cols = self.config.geometry.cols
+        for row in range(self.config.geometry.rows):
+            alien = self.aliens[row * cols + col]
+            if alien is not None:
+                return alien
+        return None
+
+    def kill(self, alien: Alien, registry: Registry) -> None:
+        """Take an alien out of the rack (the cursor skips it from now on)."""
+        self.aliens[alien.index] = None
+        self.live -= 1
+        registry.remove(alien)
+
+    def step(self, registry: Registry) -> Alien | None:
+        """Draw the next live alien at its place relative to the reference; wrap if last."""
+        if self.live == 0:
+            return None
+        g = self.config.geometry
+        index = self._next_live(self.cursor)
+        if index is None:
+            self._wrap()
+            index = self._next_live(0)
+            assert index is not None
+        alien = self.aliens[index]
+        assert alien is not None
+        row, col = divmod(index, g.cols)
+        if alien.frame != self.frame:
+            alien.frame = self.frame
+            alien.mask = ALIEN_MASKS[row][self.frame]
+            alien.shaped_tick = registry.tick
+        registry.move(alien, self.ref_x + g.cell * col, self.ref_top - g.cell * row - 8)
+        self.cursor = index + 1
+        if self._next_live(self.cursor) is None:
+            self._wrap()
+        return alien
+
+    def _next_live(self, start: int) -> int | None:
+        aliens = self.aliens
+        for index in range(start, len(aliens)):
+            if aliens[index] is not None:
+                return index
+        return None
+
+    def _wrap(self) -> None:
+        """The reference alien moves: a step, or at an edge a drop and a step back."""
+        s = self.config.speeds
+        g = self.config.geometry
+        left, right = self._lit_extent()
+        if self.dx > 0 and right >= g.edge_right:
+            self.dx = -s.rack_step
+            self.ref_top += s.rack_drop
+        elif self.dx < 0 and left <= g.edge_left:
+            self.dx = s.rack_step_last_right if self.live == 1 else s.rack_step
+            self.ref_top += s.rack_drop
+        self.ref_x += self.dx
+        self.frame ^= 1
+        self.cursor = 0
+
+    def _lit_extent(self) -> tuple[int, int]:
+        """Leftmost and rightmost lit screen columns of the live aliens, at the reference."""
+        g = self.config.geometry
+        left, right = 10**6, -(10**6)
+        for alien in self.aliens:
+            if alien is None:
+                continue
+            lo, hi = art.ALIEN_LIT_COLUMNS[art.ALIEN_BY_ROW[alien.row]]
+            x = self.ref_x + g.cell * alien.col
+            left = min(left, x + lo)
+            right = max(right, x + hi)
+        return left, right
+
+    def lowest_top(self) -> int:
+        """Row of the lowest live alien's picture top (for the invasion test and zones)."""
+        return max((a.top for a in self.aliens if a is not None), default=0)

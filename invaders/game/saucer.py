@@ -1,0 +1,70 @@
+"""The mystery ship: timer, launch conditions, flight in its lane, hit sequence and score."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from invaders.game.config import GameConfig
+from invaders.game.entities import Saucer
+from invaders.game.registry import Registry
+
+START_LEFT_X = 9
+START_RIGHT_X = 192
+GONE_LEFT_X = 8
+GONE_RIGHT_X = 193
+
+
+@dataclass
+class SaucerState:
+    """The saucer's object (shared with the squiggly bomb in the original)."""
+
+    timer: int
+    due: bool = False
+    saucer: Saucer | None = None
+    hit_steps: int = 0  # > 0 while the explosion, then the score, is shown
+    hit_x: int = 0
+    hit_score: int = 0
+    from_left: bool = False
+
+    @property
+    def busy(self) -> bool:
+        """Pending, flying or exploding: the squiggly bomb does not fire meanwhile."""
+        return self.due or self.saucer is not None or self.hit_steps > 0
+
+
+def count_down(state: SaucerState, config: GameConfig, ref_top: int) -> None:
+    """Per tick; runs only once the rack is below its wave-1 start (Yr < 0x78)."""
+    if ref_top <= config.start_top(1):
+        return
+    state.timer -= 1
+    if state.timer <= 0:
+        state.due = True
+        state.timer = config.timing.saucer_timer
+
+
+def launch(state: SaucerState, registry: Registry, top: int, speed: int) -> Saucer:
+    """Start a flight from the side `from_left` says."""
+    x, dx = (START_LEFT_X, speed) if state.from_left else (START_RIGHT_X, -speed)
+    saucer = Saucer(registry.new_id(), x, top, dx)
+    registry.add(saucer)
+    state.saucer = saucer
+    state.due = False
+    return saucer
+
+
+def fly(state: SaucerState, registry: Registry) -> None:
+    """One saucer tick of flight; it leaves at either end of the lane."""
+    saucer = state.saucer
+    assert saucer is not None
+    x = saucer.x + saucer.dx
+    if x < GONE_LEFT_X or x >= GONE_RIGHT_X:
+        registry.remove(saucer)
+        state.saucer = None
+        return
+    registry.move(saucer, x, saucer.y)
+
+
+def score_for(config: GameConfig, shots_removed: int) -> int:
+    """Mystery score: index = shots removed this wave (the hitting one included) mod 15."""
+    table = config.rules.saucer_scores
+    return table[shots_removed % len(table)]

@@ -1,0 +1,243 @@
+"""A deterministic player for headless runs: aims, shoots, dodges bombs, and sometimes fails.
+
+It reads the world and returns input bits, like a keyboard would; it never writes the world.
+Its own generator (seeded from the run's seed) makes it imperfect in a repeatable way, so
+headless games see every kind of collision: kills, shield hits, saucer hits, shot-bomb
+meetings, bombs on shields and on the cannon, deaths, respawns, waves and game over.
+"""
+
+from __future__ import annotations
+
+import random
+
+from invaders.game.actions import Action
+from invaders.game.entities import CannonState
+from invaders.game.world import Phase, World
+
+DODGE_LOOKAHEAD_TICKS = 45  # bombs further than this from the cannon's rows are ignored
+CANNON_LIT = (2, 14)  # first and last lit column of the cannon's 16-px box
+DODGE_MARGIN = 2  # columns of room kept between a bomb and the cannon
+SHOT_TICKS_TO_LANE = 42  # ticks the shot needs from the barrel to the saucer lane
+
+
+ALL_COLUMNS = frozenset(range(11))
+CORRIDOR = 5  # the column a defender clears, then hides under
+STYLES = {
+    # name: (chance to notice a bomb, rack columns it shoots at, keeps the 300 shot for saucers)
+    "hunter": (0.85, ALL_COLUMNS, False),
+    "expert": (0.98, ALL_COLUMNS, True),
+    "defender": (0.995, frozenset({CORRIDOR}), False),
+    "pacifist": (0.995, frozenset(), False),
+}
+
+
+class Autopilot:
+    """`actions(world)` -> this tick's input bits.
+
+    Styles: "hunter" shoots the lowest aliens and misses some bombs; "expert" dodges better
+    and keeps the shot that would score 300 for the saucer (the table's 8th of every 15);
+    "defender" clears one column and then hides under the gap it made (no bomb falls from an
+    empty column), so the rest of the rack comes down and invades; "pacifist" only dodges.
+    """
+
+    def __init__(self, seed: int, style: str = "hunter") -> None:
+        if style not in STYLES:
+            raise ValueError(f"unknown autopilot style {style!r} (choose from {', '.join(STYLES)})")
+        self.rng = random.Random(f"autopilot:{style}:{seed}" if style != "hunter"
+                                 else f"autopilot:{seed}")
+        self.style = style
+        self.skill, self.columns, self.saucer_trick = STYLES[style]
+        self._fire_held = False
+        self._noticed: dict[int, bool] = {}
+        self._wander = 0
+        self._wander_dir = 0
+        self._through_shields = False  # re-rolled at each shot: now and then shoot a shield
+        self._shields = ShieldColumns()
+        self._target_tick = -1
+        self._target: int | None = None
+        self._has_targets = False
+
+    def actions(self, world: World) -> int:
+        if world.phase is Phase.GAME_OVER:
+            return int(Action.START) if world.tick % 30 == 0 else 0
+        cannon = world.cannon
+        if cannon.state is not CannonState.ACTIVE:
+            return 0
+        centre = cannon.x + 8
+        wish = self._wandering()
+        if wish is None:
+            wish = self._approach(world, centre)
+        move = self._choose(world, self._threats(world), wish)
+        bits = 0
+        if move < 0:
+            bits |= Action.LEFT
+        elif move > 0:
+            bits |= Action.RIGHT
+        if self._want_fire(world, centre):
+            bits |= Action.FIRE
+        self._fire_held = bool(bits & Action.FIRE)
+        return int(bits)
+
+    def _threats(self, world: World) -> list[tuple[int, int, float, float]]:
+        """Noticed bombs as (first lit column, last, ticks until they reach the cannon's
+        rows, ticks until they have passed them)."""
+        cannon = world.cannon
+        speeds = world.config.speeds
+        fast = world.rack.live <= speeds.bomb_fast_at
+        per_tick = (speeds.bomb_fast if fast else speeds.bomb) / 3
+        threats = []
+        for slot in world.slots:
+            bomb = slot.bomb
+            if bomb is None:
+                continue
+            if not self._noticed.setdefault(bomb.id, self.rng.random() < self.skill):
+                continue
+            if bomb.y >= cannon.y + cannon.h:
+                continue
+            # Bombs jump a whole step every third tick: arrive a step early, leave a step late,
+            # and a column of margin either side.
+            arrive = max(0.0, (cannon.y - (bomb.y + bomb.h)) / per_tick - 3)
+            if arrive > DODGE_LOOKAHEAD_TICKS:
+                continue
+            leave = (cannon.y + cannon.h - bomb.y) / per_tick + 3
+            threats.append((bomb.x - DODGE_MARGIN, bomb.x + bomb.w - 1 + DODGE_MARGIN,
+                            arrive, leave))
+        if len(self._noticed) > 64:
+            live = {s.bomb.id for s in world.slots if s.bomb is not None}
+            self._noticed = {k: v for k, v in self._noticed.items() if k in live}
+        return threats
+
+    def _first_hit(self, world: World, threats, direction: int) -> float:
+        """Ticks until a threat would hit the cannon if it held `direction`; inf if never."""
+        g = world.config.geometry
+        x0 = world.cannon.x
+        first = float("inf")
+        for left, right, arrive, leave in threats:
+            xa = min(max(x0 + direction * int(arrive), g.cannon_min_x), g.cannon_max_x)
+            xb = min(max(x0 + direction * int(leave + 1), g.cannon_min_x), g.cannon_max_x)
+            lo, hi = min(xa, xb) + CANNON_LIT[0], max(xa, xb) + CANNON_LIT[1]
+            if left <= hi and lo <= right:
+                first = min(first, arrive)
+        return first
+
+    def _choose(self, world: World, threats, wish: int) -> int:
+        """The wished move if it stays clear of every noticed bomb; else the safest move."""
+        if not threats:
+            return wish
+        options = list(dict.fromkeys((wish, 0, -1, 1)))
+        times = {d: self._first_hit(world, threats, d) for d in options}
+        for d in options:
+            if times[d] == float("inf"):
+                return d
+        return max(options, key=lambda d: times[d])
+
+    def _wandering(self) -> int | None:
+        """Now and then drift for a while, so games differ by seed."""
+        if self._wander > 0:
+            self._wander -= 1
+            return self._wander_dir
+        if self.rng.random() < 0.004:
+            self._wander = self.rng.randint(10, 60)
+            self._wander_dir = self.rng.choice((-1, 1))
+        return None
+
+    def _target_x(self, world: World) -> int | None:
+        """Where to put the cannon's centre this tick (worked out once per tick)."""
+        if self._target_tick != world.tick:
+            self._target_tick = world.tick
+            self._target = self._find_target(world)
+        return self._target
+
+    def _shootable(self, world: World) -> list:
+        """The lowest live alien of each column this style shoots at."""
+        rack = world.rack
+        found = (rack.lowest_in_column(col) for col in self.columns)
+        return [alien for alien in found if alien is not None]
+
+    def _find_target(self, world: World) -> int | None:
+        targets = self._shootable(world)
+        self._has_targets = bool(targets)
+        if not targets:
+            return _hiding_place(world)
+        ship = world.saucer.saucer
+        if ship is not None:
+            lead = ship.dx * SHOT_TICKS_TO_LANE // 3
+            return ship.x + 12 + lead
+        best = None
+        shields = self._shields
+        for alien in targets:
+            x = alien.x + 8
+            blocked = shields.covers(world, x) and not self._through_shields
+            key = (blocked, -alien.top, abs(x - world.cannon.x - 8))
+            if best is None or key < best[0]:
+                best = (key, x)
+        return None if best is None else best[1]
+
+    def _approach(self, world: World, centre: int) -> int:
+        target = self._target_x(world)
+        if target is None or abs(target - centre) <= 1:
+            return 0
+        return 1 if target > centre else -1
+
+    def _want_fire(self, world: World, centre: int) -> bool:
+        if self._fire_held or world.shot is not None:
+            return False
+        target = self._target_x(world)
+        if target is None or not self._has_targets:
+            return False  # nothing it is willing to shoot at: it is hiding
+        # The next shot would score 300 on the saucer: keep it for the saucer, and fire it
+        # only up a column that no alien or shield blocks.
+        if self.saucer_trick and world.shots_removed % 15 == 7 and (
+                world.saucer.saucer is None or not self._clear_column(world, centre)):
+            return False
+        if self._shields.covers(world, centre) and not self._through_shields:
+            return False
+        fire = abs(target - centre) <= 3 or self.rng.random() < 0.02
+        if fire:
+            self._through_shields = self.rng.random() < 0.15
+        return fire
+
+    def _clear_column(self, world: World, x: int) -> bool:
+        """Whether a shot fired up column x would meet neither an alien nor a shield."""
+        if self._shields.covers(world, x):
+            return False
+        return all(not alien.x <= x < alien.x + alien.w for alien in world.rack.live_aliens())
+
+
+class ShieldColumns:
+    """Which screen columns still have shield pixels, recomputed only when a shield changes."""
+
+    def __init__(self) -> None:
+        self._seen: dict[int, tuple[int, frozenset[int]]] = {}
+
+    def covers(self, world: World, x: int) -> bool:
+        for bunker in world.bunkers:
+            if bunker.x <= x < bunker.x + bunker.w:
+                return x in self._columns(bunker)
+        return False
+
+    def _columns(self, bunker) -> frozenset[int]:
+        count = bunker.mask.count()
+        seen = self._seen.get(bunker.id)
+        if seen is None or seen[0] != count:
+            lit = frozenset(bunker.x + cx for cx in range(bunker.w)
+                            if any(bunker.mask.get_at((cx, cy)) for cy in range(bunker.h)))
+            seen = self._seen[bunker.id] = (count, lit)
+        return seen[1]
+
+
+def _hiding_place(world: World) -> int:
+    """Where a cannon that no longer fires is safest: under an emptied column of the rack if
+    there is one (nothing falls from it), else beside the rack, on the side it is not."""
+    g = world.config.geometry
+    aliens = world.rack.live_aliens()
+    if aliens and world.rack.lowest_in_column(CORRIDOR) is None:
+        x = world.rack.ref_x + g.cell * CORRIDOR + 8
+        if g.cannon_min_x + 8 <= x <= g.cannon_max_x + 8:
+            return x
+    left = min((a.x for a in aliens), default=g.cannon_min_x)
+    right = max((a.x + a.w for a in aliens), default=g.cannon_max_x)
+    room_left, room_right = left - g.cannon_min_x, g.cannon_max_x + 16 - right
+    if room_right >= room_left:
+        return g.cannon_max_x + 8
+    return g.cannon_min_x + 8

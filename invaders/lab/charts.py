@@ -1,0 +1,122 @@
+"""The study's three charts (matplotlib, the [chart] extra), written as PNG atomically.
+
+1. Speed against accuracy: one point per method (time per tick against errors per true
+   contact, over the accuracy scenes), the Pareto front marked.
+2. Counters per tick over a game: how many pairs each pipeline step considered.
+3. Time per tick against body count, log-log: ours, brute force, groupcollide with
+   collide_mask, pymunk's spatial hash (boxes only).
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from pathlib import Path
+
+from invaders.atomic import atomic_path
+from invaders.engine.broadphase import DEFAULT_CELL
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _finish(plt, fig, ax, path: Path, xlabel: str, ylabel: str, title: str,
+            legend_at: str = "best") -> None:
+    """Labels, legend and grid as every chart has them; then save (atomically) and close."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.legend(fontsize=8, loc=legend_at)
+    ax.grid(True, which="both", alpha=0.3)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+
+
+def pareto(points: list[tuple[float, float, str]]) -> list[tuple[float, float, str]]:
+    """Points no other point beats on both time and errors (lower is better), by time."""
+    front = []
+    best = float("inf")
+    for x, y, label in sorted(points):
+        if y < best:
+            front.append((x, y, label))
+            best = y
+    return front
+
+
+def method_points(rows: list[dict]) -> list[tuple[float, float, str]]:
+    """(mean us per tick, errors per true contact, label) per narrow-phase method, over the
+    accuracy cells (the default broad phase) of the scenes every method ran on."""
+    time_sum: dict[str, float] = defaultdict(float)
+    count: dict[str, int] = defaultdict(int)
+    errors: dict[str, int] = defaultdict(int)
+    true: dict[str, int] = defaultdict(int)
+    cells = [r for r in rows if r["method"].startswith(f"grid{DEFAULT_CELL}/")]
+    scenes: dict[str, set[str]] = defaultdict(set)
+    for row in cells:
+        scenes[row["method"]].add(row["scene"])
+    common = set.intersection(*scenes.values()) if scenes else set()
+    for row in cells:
+        if row["scene"] not in common:
+            continue
+        label = row["method"].split("/", 1)[1]
+        time_sum[label] += float(row["us_per_tick"])
+        count[label] += 1
+        errors[label] += int(row["missed"]) + int(row["false"]) + int(row["late"])
+        true[label] += int(row["true"])
+    return [(time_sum[k] / count[k], errors[k] / max(1, true[k]), k) for k in time_sum]
+
+
+def speed_accuracy(rows: list[dict], path: Path) -> None:
+    plt = _pyplot()
+    points = method_points(rows)
+    front = pareto(points)
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    ax.scatter([p[0] for p in points], [p[1] for p in points], s=18, color="#8899aa",
+               label="methods")
+    ax.plot([p[0] for p in front], [p[1] for p in front], "-o", color="#d62728", ms=5,
+            label="Pareto front")
+    for x, y, label in front:
+        ax.annotate(label, (x, y), fontsize=7, xytext=(4, 4), textcoords="offset points")
+    default = [p for p in points if p[2] == "rect/mask/auto/every1"]
+    if default:
+        ax.scatter([default[0][0]], [default[0][1]], s=90, marker="*", color="#2ca02c",
+                   zorder=5, label="default (rect/mask/auto/every1)")
+    ax.set_xscale("log")
+    ax.set_yscale("symlog", linthresh=0.01)
+    ax.set_ylim(bottom=0)
+    _finish(plt, fig, ax, path, "detection time per original tick (us, log)",
+            "errors per true contact (missed + false + late)",
+            "Speed against accuracy: quick test / thorough test / motion / sampling")
+
+
+def counters(series: dict[str, list[int]], path: Path, title: str) -> None:
+    """Per-tick counters (a rolling mean over a second), one line per pipeline step."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    window = 60
+    for name, values in series.items():
+        smoothed = [sum(values[max(0, i - window + 1):i + 1]) / min(i + 1, window)
+                    for i in range(len(values))]
+        ax.plot(range(len(values)), [max(v, 0.01) for v in smoothed], label=name, lw=1.2)
+    ax.set_yscale("log")
+    _finish(plt, fig, ax, path, "tick", "pairs per tick (mean over 60 ticks)", title,
+            legend_at="upper right")
+
+
+def scaling(series: dict[str, list[tuple[int, float]]], path: Path) -> None:
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    for name, points in series.items():
+        if points:
+            points = sorted(points)
+            ax.plot([p[0] for p in points], [p[1] for p in points], "-o", ms=4, label=name)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    _finish(plt, fig, ax, path, "bodies in the scene", "detection time per tick (us)",
+            "Time per tick against body count (storm scenes)")

@@ -1,0 +1,80 @@
+"""The method matrix: each cell a way to detect collisions, built as a Detector.
+
+Dimensions: broad phase (brute force, grid with a cell of 4 to 128 px or chosen from the
+scene, sort-and-sweep), quick test (rect, circle), thorough test (none: boxes are taken as
+the shapes; mask), motion (discrete, swept, or auto: per entry, the cheapest proven exact for
+the scene's speeds), and temporal sampling (detection every 1, 2, 4 or 8 original frames).
+Every broad phase gives the same contacts (the contract), so accuracy depends only on the
+other dimensions, and speed on all of them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+from invaders.engine.broadphase import DEFAULT_CELL, make_broadphase
+from invaders.engine.detector import Detector
+from invaders.engine.rules import RULES, Motion, Shape
+from invaders.game.tuning import cheapest_rules
+from invaders.lab.methods import QUICK_TESTS
+
+CELLS = (4, 8, 16, 32, 64, 128)
+SAMPLINGS = (1, 2, 4, 8)
+MULTIPLIERS = (1, 2, 4, 8, 16)
+
+
+@dataclass(frozen=True)
+class Method:
+    broad: str = "grid"  # brute | grid | sweep
+    cell: int = DEFAULT_CELL  # grid cell in px; 0: chosen from the scene
+    quick: str = "rect"  # rect | circle
+    thorough: str = "mask"  # none | mask
+    motion: str = "auto"  # discrete | swept | auto
+    sampling: int = 1  # detect every n-th original frame
+
+    @property
+    def label(self) -> str:
+        broad = self.broad if self.broad != "grid" else f"grid{self.cell or 'auto'}"
+        return f"{broad}/{self.quick}/{self.thorough}/{self.motion}/every{self.sampling}"
+
+    @property
+    def is_default(self) -> bool:
+        return (self.quick, self.thorough, self.motion, self.sampling) == DEFAULT_NARROW
+
+
+DEFAULT_NARROW = ("rect", "mask", "auto", 1)
+DEFAULT = Method()
+
+
+def rules_for(method: Method, multiplier: int = 1):
+    """The rules table as the method models it."""
+    if method.motion == "auto":
+        rules = cheapest_rules(multiplier * method.sampling)
+    else:
+        motion = Motion.SWEPT if method.motion == "swept" else Motion.DISCRETE
+        rules = tuple(replace(r, motion=motion) for r in RULES)
+    if method.thorough == "none":
+        rules = tuple(replace(r, a_shape=Shape.BOX, b_shape=Shape.BOX) for r in rules)
+    return rules
+
+
+def detector_for(method: Method, multiplier: int = 1, cell: int | None = None) -> Detector:
+    """A Detector for the method; `cell` replaces an automatic cell size once chosen."""
+    size = method.cell or cell or DEFAULT_CELL
+    quick = None if method.quick == "rect" else QUICK_TESTS[method.quick]
+    return Detector(make_broadphase(method.broad, size), rules_for(method, multiplier), quick)
+
+
+def accuracy_matrix(quick: bool) -> list[Method]:
+    """Narrow-phase cells, all on the default broad phase (it does not change contacts)."""
+    samplings = (1, 2, 4) if quick else SAMPLINGS
+    return [Method(quick=q, thorough=t, motion=m, sampling=s)
+            for q in ("rect", "circle") for t in ("none", "mask")
+            for m in ("discrete", "swept", "auto") for s in samplings]
+
+
+def broad_matrix(quick: bool) -> list[Method]:
+    """Broad-phase cells with the default narrow phase."""
+    cells = (8, 16, 32, 64) if quick else CELLS
+    return ([Method(broad="brute"), Method(broad="sweep"), Method(cell=0)]
+            + [Method(cell=c) for c in cells])

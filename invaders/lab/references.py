@@ -1,0 +1,81 @@
+"""Outside references for the scaling chart, timed on the same frames as our pipeline.
+
+`pygame.sprite.groupcollide` with `collide_mask` over the rules' group pairs (mask-exact,
+as ours), and pymunk's spatial hash answering box queries only (a lower bar: no pixels).
+"""
+
+from __future__ import annotations
+
+import time
+
+from invaders.engine.rules import RULES
+from invaders.lab.frames import Frame
+from invaders.lab.timing import no_gc
+
+
+def groupcollide_us(frames: list[Frame], budget: float = 5.0) -> float:
+    """Microseconds per frame for groupcollide + collide_mask (as many frames as the budget
+    allows, at least one)."""
+    import pygame
+
+    from invaders.lab.bench import sprite_groups
+
+    seconds, count = 0.0, 0
+    with no_gc():
+        for frame in frames:
+            groups = sprite_groups(frame)
+            start = time.perf_counter()
+            for a, b in groups:
+                pygame.sprite.groupcollide(a, b, False, False, pygame.sprite.collide_mask)
+            seconds += time.perf_counter() - start
+            count += 1
+            if seconds > budget:
+                break
+    return 1e6 * seconds / count
+
+
+def pymunk_us(frames: list[Frame]) -> float | None:
+    """Microseconds per frame for pymunk's spatial hash: move the shapes that moved, then
+    one box query per probing body and rule. None if pymunk is not installed."""
+    try:
+        import pymunk
+    except ImportError:
+        return None
+    space = pymunk.Space()
+    bodies = max(sum(len(v) for v in f.bodies.values()) for f in frames)
+    space.use_spatial_hash(32.0, max(1000, 2 * bodies))
+    shapes: dict[int, tuple[pymunk.Body, pymunk.Shape, tuple[int, int]]] = {}
+    seconds = 0.0
+    with no_gc():
+        for frame in frames:
+            start = time.perf_counter()
+            seen = set()
+            for kind, rows in frame.bodies.items():
+                for body_id, x, y, _px, _py, _moved, mask in rows:
+                    seen.add(body_id)
+                    entry = shapes.get(body_id)
+                    if entry is None:
+                        w, h = mask.get_size()
+                        body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+                        shape = pymunk.Poly.create_box(body, (w, h))
+                        shape.filter = pymunk.ShapeFilter(categories=1 << kind)
+                        body.position = (x + w / 2, y + h / 2)
+                        space.add(body, shape)
+                        shapes[body_id] = (body, shape, (x, y))
+                    elif entry[2] != (x, y):
+                        w, h = mask.get_size()
+                        entry[0].position = (x + w / 2, y + h / 2)
+                        space.reindex_shapes_for_body(entry[0])
+                        shapes[body_id] = (entry[0], entry[1], (x, y))
+            for body_id in [i for i in shapes if i not in seen]:
+                body, shape, _ = shapes.pop(body_id)
+                space.remove(body, shape)
+            for rule in RULES:
+                wanted = pymunk.ShapeFilter(mask=1 << rule.b)
+                for _id, x, y, _px, _py, _moved, mask in frame.bodies[rule.a]:
+                    w, h = mask.get_size()
+                    space.bb_query(pymunk.BB(x, y, x + w, y + h), wanted)
+            seconds += time.perf_counter() - start
+    return 1e6 * seconds / len(frames)
+
+

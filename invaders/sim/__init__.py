@@ -1,1 +1,0 @@
-"""The game as a pure simulation: no display, no clock, one seeded random generator."""
