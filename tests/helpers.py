@@ -3,17 +3,23 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from operator import attrgetter
 
 import pygame
 
-from invaders.engine.body import Body, Kind
+from invaders.engine.body import Body
+from invaders.engine.store import BodyStore
 from invaders.game import art
+from invaders.game.config import DEFAULT_CONFIG
 from invaders.game.entities import CannonState
+from invaders.game.kinds import Kind
+from invaders.game.rules import make_rules
 from invaders.game.tuning import kind_masks
 from invaders.game.world import TickReport, World
 
 # Every picture mask a kind can show (shields, which erode, aside).
 SHARED_MASKS = kind_masks()
+GAME_RULES = make_rules(DEFAULT_CONFIG)
 
 
 def mask(*rows: str) -> pygame.mask.Mask:
@@ -27,17 +33,17 @@ def mask_rows(m: pygame.mask.Mask) -> tuple[str, ...]:
     return tuple("".join("#" if m.get_at((x, y)) else "." for x in range(w)) for y in range(h))
 
 
-class Scene:
-    """A hand-made scene: bodies by kind, all new (so any broad phase starts from scratch)."""
+class Scene(BodyStore):
+    """A hand-made scene in a store of its own, at `tick`. Each body keeps the motion and
+    the `shaped_tick` it was given: the scene says itself which bodies are new in it."""
 
     def __init__(self, bodies: Sequence[Body], tick: int = 0) -> None:
+        super().__init__(Kind)
         self.tick = tick
-        self.dirty = list(bodies)
-        self.by_kind = {kind: sorted((b for b in bodies if b.kind is kind), key=lambda b: b.id)
-                        for kind in Kind}
-
-    def bodies(self, kind: Kind) -> list[Body]:
-        return self.by_kind[kind]
+        for body in sorted(bodies, key=attrgetter("id")):
+            shaped = body.shaped_tick
+            self.add(body)
+            body.shaped_tick = shaped
 
 
 def active_world(seed: int = 0, **kwargs) -> World:

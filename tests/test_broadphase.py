@@ -7,13 +7,15 @@ import random
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from invaders.engine.body import Body, Kind
-from invaders.engine.broadphase import Brute, Grid, SortAndSweep
+from invaders.engine.body import Body
+from invaders.engine.broadphase import Brute, SortAndSweep
 from invaders.engine.detector import Detector
+from invaders.engine.grid import Grid
 from invaders.game import art
+from invaders.game.kinds import Kind
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
-from tests.helpers import SHARED_MASKS, Scene, active_world
+from tests.helpers import GAME_RULES, SHARED_MASKS, Scene, active_world
 
 
 def _random_body(rng: random.Random, body_id: int, kind: Kind, tick: int) -> Body:
@@ -49,20 +51,21 @@ def scenes(draw):
 @given(bodies=scenes(), cell=st.sampled_from([4, 7, 16, 32, 64, 128]))
 def test_grid_and_brute_give_identical_contacts_in_identical_order(bodies, cell):
     scene = Scene(bodies, tick=5)
-    brute_contacts, brute_stats = Detector(Brute()).detect(scene)
-    grid_contacts, grid_stats = Detector(Grid(cell)).detect(scene)
+    brute_contacts, brute_stats = Detector(Brute(), GAME_RULES).detect(scene)
+    grid_contacts, grid_stats = Detector(Grid(cell), GAME_RULES).detect(scene)
     assert grid_contacts == brute_contacts
-    sweep_contacts, sweep_stats = Detector(SortAndSweep()).detect(scene)
+    sweep_contacts, sweep_stats = Detector(SortAndSweep(), GAME_RULES).detect(scene)
     assert sweep_contacts == brute_contacts
     assert sweep_stats.candidates <= brute_stats.candidates
-    assert [(c.a_id, c.b_id) for c in grid_contacts] == sorted(
-        (c.a_id, c.b_id) for c in grid_contacts)
+    assert [(c.time, c.a_id, c.b_id) for c in grid_contacts] == sorted(
+        (c.time, c.a_id, c.b_id) for c in grid_contacts)
     assert grid_stats.allowed_pairs == brute_stats.allowed_pairs
     assert grid_stats.candidates <= brute_stats.candidates
 
 
 def test_every_broad_phase_agrees_tick_by_tick_in_a_game():
-    worlds = [World(seed=11, detector=Detector(b)) for b in (Grid(), Brute(), SortAndSweep())]
+    worlds = [World(seed=11, detector=Detector(b, GAME_RULES))
+              for b in (Grid(), Brute(), SortAndSweep())]
     pilots = [Autopilot(11) for _ in worlds]
     contacts = 0
     for _ in range(4000):
@@ -94,6 +97,6 @@ def test_a_body_spanning_many_cells_is_reported_once():
     saucer = Body(1, Kind.SAUCER, 0, 40, art.mask_of(art.SAUCER))
     shot = Body(2, Kind.SHOT, 10, 41, art.mask_of(art.SHOT))
     scene = Scene([saucer, shot])
-    contacts, stats = Detector(Grid(4)).detect(scene)  # the saucer covers 6x2 cells
+    contacts, stats = Detector(Grid(4), GAME_RULES).detect(scene)  # the saucer covers 6x2 cells
     assert stats.candidates == 1
     assert [(c.a_id, c.b_id) for c in contacts] == [(1, 2)]

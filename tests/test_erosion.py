@@ -68,8 +68,8 @@ def test_a_shot_erases_its_image_then_its_burst_shape():
 
 
 def _drop_bomb(world: World, btype: BombType, x: int, y: int) -> Bomb:
-    bomb = Bomb(world.new_id(), btype, x, y)
-    world.add(bomb)
+    bomb = Bomb(world.store.new_id(), btype, x, y)
+    world.store.add(bomb)
     world.slots[btype].bomb = bomb
     return bomb
 

@@ -38,7 +38,7 @@ def test_the_rack_takes_n_ticks_per_step_for_n_live_aliens():
     _ticks_between_rack_steps(world, 1)  # align to a step boundary
     assert _ticks_between_rack_steps(world, 3) == [55, 55, 55]
     for alien in world.rack.live_aliens()[::3]:  # kill 19, leaving 36
-        world.rack.kill(alien, world)
+        world.rack.kill(alien, world.store)
     _ticks_between_rack_steps(world, 1)
     assert world.rack.live == 36
     assert _ticks_between_rack_steps(world, 3) == [36, 36, 36]
@@ -109,9 +109,9 @@ def test_the_saucer_scores_300_for_the_eighth_shot():
     world.saucer.from_left = False
     step_until(world, lambda r: Event.SAUCER_LAUNCHED in r.events, limit=10)
     ship = world.saucer.saucer
-    shot = Shot(world.new_id(), ship.x + 12, G.saucer_top + 12)  # just below, in its path
+    shot = Shot(world.store.new_id(), ship.x + 12, G.saucer_top + 12)  # just below, in its path
     world.shot = shot
-    world.add(shot)
+    world.store.add(shot)
     hit = step_until(world, lambda r: Event.SAUCER_HIT in r.events or world.shot is None)
     assert Event.SAUCER_HIT in hit.events
     assert world.shots_removed == 8
@@ -180,7 +180,7 @@ def test_a_cleared_wave_starts_the_next_lower_with_fresh_shields():
     _quiet(world)
     world.bunkers[0].mask.clear()
     for alien in world.rack.live_aliens()[1:]:
-        world.rack.kill(alien, world)
+        world.rack.kill(alien, world.store)
     world.kill_alien(world.rack.live_aliens()[0])
     step_until(world, lambda r: Event.WAVE_STARTED in r.events, limit=200)
     assert world.wave == 2

@@ -2,32 +2,36 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+from fractions import Fraction
 from pathlib import Path
 
 import pytest
 
-from invaders.engine.body import Body, Kind
+from invaders.engine.body import Body
 from invaders.engine.broadphase import Brute
-from invaders.engine.detector import Detector, make_detector
-from invaders.engine.rules import RULES, Motion, PairRule, Shape
+from invaders.engine.detector import Detector
+from invaders.engine.rules import Motion, Shape
 from invaders.game import art
+from invaders.game.kinds import Kind
 from invaders.game.replay import load
 from invaders.game.world import World
 from invaders.lab.oracle import true_contacts
-from invaders.lab.shadow import ShadowDetector
-from tests.helpers import Scene
+from invaders.lab.shadow import Shadow
+from tests.helpers import GAME_RULES, Scene
 
 REPLAYS = sorted((Path(__file__).resolve().parents[1] / "replays").glob("*.json"))
-DISCRETE = tuple(PairRule(r.a, r.b, r.a_shape, r.b_shape, Motion.DISCRETE, r.zone, r.reason)
-                 for r in RULES)
-RECT_ONLY = tuple(PairRule(r.a, r.b, Shape.BOX, Shape.BOX, r.motion, r.zone, r.reason)
-                  for r in RULES)
+DISCRETE = GAME_RULES.map(
+    lambda r: r if r.motion is Motion.LANDING else replace(r, motion=Motion.DISCRETE))
+RECT_ONLY = GAME_RULES.map(lambda r: replace(r, a_shape=Shape.BOX, b_shape=Shape.BOX))
 
 
-def _shadow(path: Path, detector: Detector):
+def _shadow(path: Path, detector: Detector | None = None):
+    """Play a replay with a detector (the world's own by default), the oracle in shadow."""
     replay = load(path)
-    shadow = ShadowDetector(detector)
-    world = World(replay.seed, replay.config, detector=shadow)  # type: ignore[arg-type]
+    world = World(replay.seed, replay.config, detector=detector)
+    shadow = Shadow(world.rules)
+    world.detector.observers.append(shadow)
     for bits in replay.actions():
         world.step(bits)
     return shadow.finish()
@@ -35,7 +39,7 @@ def _shadow(path: Path, detector: Detector):
 
 @pytest.mark.parametrize("path", REPLAYS, ids=lambda p: p.stem)
 def test_the_default_pipeline_matches_the_oracle_on_every_replay(path):
-    score = _shadow(path, make_detector("grid"))
+    score = _shadow(path)
     assert score.true > 30
     assert (score.missed, score.false, score.late) == (0, 0, 0), score.examples
 
@@ -56,9 +60,9 @@ def test_rect_tests_report_false_contacts_in_the_shield_arch_and_alien_corners()
     in_corner = Body(4, Kind.SHOT, 21, 28, art.mask_of(art.SHOT))  # box col 1: empty
     scene = Scene([bunker, in_arch, alien, in_corner])
     rect, _ = Detector(Brute(), RECT_ONLY).detect(scene)
-    masks, _ = Detector(Brute()).detect(scene)
+    masks, _ = Detector(Brute(), GAME_RULES).detect(scene)
     assert {(c.a_id, c.b_id) for c in rect} == {(1, 2), (3, 4)}
-    assert masks == [] == true_contacts(scene)
+    assert masks == [] == true_contacts(scene, GAME_RULES)
 
 
 def test_the_oracle_finds_the_first_substep_of_a_swept_touch():
@@ -67,8 +71,8 @@ def test_the_oracle_finds_the_first_substep_of_a_swept_touch():
     for body, dy in ((bomb, 5), (shot, -12)):
         body.px, body.py, body.moved_tick = body.x, body.y, 7
         body.y += dy
-    (contact,) = true_contacts(Scene([bomb, shot], tick=7))
+    (contact,) = true_contacts(Scene([bomb, shot], tick=7), GAME_RULES)
     # They close 17 px. The shot's top starts 20 rows below the bomb's top and touches the
-    # plunger's lowest lit row (7) once it has come up 13 of them.
-    assert (contact.a_id, contact.b_id, contact.steps) == (1, 2, 17)
-    assert contact.step == (80 - 60) - 7
+    # plunger's lowest lit row (7) once it has come up 13 of them: 13/17 into the tick.
+    assert (contact.a_id, contact.b_id) == (1, 2)
+    assert contact.time == Fraction((80 - 60) - 7, 17)

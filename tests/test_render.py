@@ -41,7 +41,7 @@ def test_drawing_with_the_overlay_does_not_change_the_world():
     report = world.step(0)
     after_step = world.state_hash()
     assert after_step != before
-    Renderer(2).draw(target, world, 0.5, overlay=True, stats=report.stats)
+    Renderer(2).draw(target, world, 0.5, overlay=True, report=report)
     assert world.state_hash() == after_step
 
 

@@ -12,12 +12,11 @@ from pathlib import Path
 
 import pygame
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from invaders.app.cli import main
 from invaders.app.play import Session, open_window
-from invaders.engine.detector import make_detector
 from invaders.game.replay import Replay, ReplayError, load, parse, record_headless, run
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
@@ -51,7 +50,7 @@ class FakeClock:
 def test_a_windowed_session_at_any_frame_rate_gives_the_recorded_hashes(replay_file, fps,
                                                                         window):
     replay = load(replay_file)
-    world = World(replay.seed, replay.config, detector=make_detector("grid"))
+    world = World(replay.seed, replay.config)
     clock = FakeClock()
     target = open_window(1) if window else pygame.Surface((224, 256))  # dummy video driver
     session = Session(world, target, clock, scale=1, replay=replay)
@@ -231,6 +230,8 @@ def _mutations():
 @settings(max_examples=120, deadline=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(kind=st.integers(0, 4), n=st.integers(0, 10**6))
+@example(kind=1, n=155)  # found by a random run: a rack row the art has no picture for
+@example(kind=1, n=1110)  # a plunger column of 177
 def test_mutated_files_are_refused_in_one_line_or_replay_cleanly(replay_file, tmp_path,
                                                                  capsys, kind, n):
     text = replay_file.read_text()

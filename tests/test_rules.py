@@ -6,38 +6,41 @@ import itertools
 
 import pytest
 
-from invaders.engine.body import Kind
-from invaders.engine.broadphase import Grid
 from invaders.engine.detector import Detector
-from invaders.engine.rules import NEVER, POSITIONAL, RULES, Motion, rule_for
-from invaders.game.tuning import cheapest_rules, discrete_miss, kind_masks, kind_moves
+from invaders.engine.grid import Grid
+from invaders.engine.proofs import discrete_miss
+from invaders.engine.rules import Motion
+from invaders.game.kinds import Kind
+from invaders.game.rules import NEVER
+from invaders.game.tuning import cheapest_rules, kind_masks, kind_moves
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
+from tests.helpers import GAME_RULES
 
 
 def test_every_pair_of_kinds_is_either_tested_or_excluded_with_a_reason():
     for a, b in itertools.combinations_with_replacement(Kind, 2):
-        tested = rule_for(a, b) is not None
+        tested = GAME_RULES.rule_for(a, b) is not None
         excluded = frozenset({a, b}) in NEVER
         assert tested != excluded, (a, b)
 
 
 def test_the_named_exclusions():
-    assert rule_for(Kind.BOMB, Kind.ALIEN) is None  # no friendly fire
-    assert rule_for(Kind.BUNKER, Kind.BUNKER) is None  # static against static
-    assert rule_for(Kind.CANNON, Kind.BUNKER) is None
+    assert GAME_RULES.rule_for(Kind.BOMB, Kind.ALIEN) is None  # no friendly fire
+    assert GAME_RULES.rule_for(Kind.BUNKER, Kind.BUNKER) is None  # static against static
+    assert GAME_RULES.rule_for(Kind.CANNON, Kind.BUNKER) is None
     for kind in Kind:
         if kind is not Kind.SHOT:
-            assert rule_for(Kind.SAUCER, kind) is None
-    assert rule_for(Kind.SHOT, Kind.SAUCER).zone is not None  # only in the lane
+            assert GAME_RULES.rule_for(Kind.SAUCER, kind) is None
+    assert GAME_RULES.rule_for(Kind.SHOT, Kind.SAUCER).zone is not None  # only in the lane
 
 
-@pytest.mark.parametrize("rule", RULES, ids=lambda r: f"{r.a.name}-{r.b.name}")
+@pytest.mark.parametrize("rule", GAME_RULES.entries, ids=lambda r: f"{r.a.name}-{r.b.name}")
 def test_each_entry_uses_the_cheapest_motion_model_that_is_exact(rule):
-    if frozenset({rule.a, rule.b}) in POSITIONAL:
-        assert rule.motion is Motion.DISCRETE
+    if rule.motion is Motion.LANDING:
+        assert {rule.a, rule.b} == {Kind.ALIEN, Kind.BUNKER}  # the footprint's draw
         return
-    missed = discrete_miss(rule, kind_moves(), kind_masks())
+    missed = discrete_miss(rule, kind_moves(), kind_masks(), GAME_RULES.eroding)
     if rule.motion is Motion.DISCRETE:
         assert missed is None, f"discrete misses {missed}: this entry must be swept"
     else:
@@ -45,13 +48,13 @@ def test_each_entry_uses_the_cheapest_motion_model_that_is_exact(rule):
 
 
 def test_the_derived_table_is_the_hand_written_one_at_game_speed():
-    assert cheapest_rules(1) == RULES
+    assert cheapest_rules(1) == GAME_RULES
 
 
 def test_faster_projectiles_need_the_shot_swept_against_shields_too():
     fast = {(r.a, r.b): r.motion for r in cheapest_rules(4)}
     assert fast[(Kind.SHOT, Kind.BUNKER)] is Motion.SWEPT
-    assert fast[(Kind.BUNKER, Kind.ALIEN)] is Motion.DISCRETE  # positional, whatever the speed
+    assert fast[(Kind.BUNKER, Kind.ALIEN)] is Motion.LANDING  # where it lands, at any speed
 
 
 class SpyGrid(Grid):
@@ -69,7 +72,7 @@ class SpyGrid(Grid):
 
 def test_a_real_game_never_tests_an_excluded_pair():
     spy = SpyGrid()
-    world = World(seed=3, detector=Detector(spy))
+    world = World(seed=3, detector=Detector(spy, GAME_RULES))
     pilot = Autopilot(3)
     seen_kinds: set[Kind] = set()
     for _ in range(5000):

@@ -7,9 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from invaders.engine.body import Kind
 from invaders.game.config import DEFAULT_CONFIG
 from invaders.game.events import Event
+from invaders.game.kinds import Kind
 from invaders.game.replay import load
 from invaders.game.world import World
 

@@ -9,18 +9,21 @@ import pygame
 import pytest
 
 from invaders.app.play import Session
-from invaders.engine.body import Body, Kind
-from invaders.engine.broadphase import Brute, Grid
+from invaders.engine.body import Body
+from invaders.engine.broadphase import Brute
 from invaders.engine.detector import Detector
-from invaders.engine.rules import Motion, PairRule, Shape
+from invaders.engine.grid import Grid
+from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
+from invaders.game.kinds import Kind
 from invaders.game.replay import load, run
 from invaders.lab.methods import circles, corners_inside, rect
-from tests.helpers import Scene
+from tests.helpers import GAME_RULES, Scene
 
-BAR_RULE = (PairRule(Kind.SHOT, Kind.BUNKER, Shape.BOX, Shape.MASK, Motion.DISCRETE, None,
-                     "a bar against a slab"),)
-SWEPT_BAR_RULE = (PairRule(Kind.SHOT, Kind.BUNKER, Shape.BOX, Shape.MASK, Motion.SWEPT, None,
-                           "a bar against a slab, swept"),)
+BAR_RULE = RuleTable((PairRule(Kind.SHOT, Kind.BUNKER, Shape.BOX, Shape.MASK, Motion.DISCRETE,
+                               reason="a bar against a slab"),), frozenset({Kind.BUNKER}))
+SWEPT_BAR_RULE = RuleTable((PairRule(Kind.SHOT, Kind.BUNKER, Shape.BOX, Shape.MASK, Motion.SWEPT,
+                                     reason="a bar against a slab, swept"),),
+                           frozenset({Kind.BUNKER}))
 
 
 def _passes(rules, length: int, thickness: int, step: int, start: int) -> bool:
@@ -84,8 +87,8 @@ def _big_scene() -> list[Body]:
 @pytest.mark.parametrize("cell", [1, 4, 16, 128])
 def test_big_off_screen_and_touching_bodies_agree_with_brute_force(cell):
     scene = Scene(_big_scene())
-    brute, _ = Detector(Brute()).detect(scene)
-    grid, stats = Detector(Grid(cell)).detect(scene)
+    brute, _ = Detector(Brute(), GAME_RULES).detect(scene)
+    grid, stats = Detector(Grid(cell), GAME_RULES).detect(scene)
     assert grid == brute
     assert {(c.a_id, c.b_id) for c in grid} == {(1, 2), (4, 5), (6, 7)}
     assert stats.candidates >= 3

@@ -2,19 +2,23 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from invaders.engine.body import Body, Kind
-from invaders.engine.broadphase import Brute, Grid
+from invaders.engine.body import Body
+from invaders.engine.broadphase import Brute
 from invaders.engine.detector import Detector
-from invaders.engine.rules import RULES, Motion, PairRule
+from invaders.engine.grid import Grid
+from invaders.engine.rules import Motion
 from invaders.game import art
 from invaders.game.entities import BOMB_MASKS, BombType
-from tests.helpers import Scene
+from invaders.game.kinds import Kind
+from tests.helpers import GAME_RULES, Scene
 
-DISCRETE_RULES = tuple(
-    PairRule(r.a, r.b, r.a_shape, r.b_shape, Motion.DISCRETE, r.zone, r.reason) for r in RULES)
+DISCRETE_RULES = GAME_RULES.map(
+    lambda r: r if r.motion is Motion.LANDING else replace(r, motion=Motion.DISCRETE))
 
 
 def _close(detector: Detector, shot_speed: int, bomb_speed: int, column: int, gap: int,
@@ -40,14 +44,14 @@ def _close(detector: Detector, shot_speed: int, bomb_speed: int, column: int, ga
 def test_a_shot_and_a_bomb_closing_at_up_to_16_px_a_tick_always_meet(
         shot_speed, bomb_speed, column, gap, btype, frame):
     for broadphase in (Grid(), Brute()):
-        assert _close(Detector(broadphase), shot_speed, bomb_speed, column, gap, btype,
+        assert _close(Detector(broadphase, GAME_RULES), shot_speed, bomb_speed, column, gap, btype,
                       frame) is not None
 
 
 def test_the_discrete_test_lets_them_pass_where_steps_exceed_length_plus_thickness():
     # Squiggly's side column is one pixel here; the shot is 4 long: 9 px a tick jumps it.
     discrete = Detector(Brute(), DISCRETE_RULES)
-    swept = Detector(Brute())
+    swept = Detector(Brute(), GAME_RULES)
     misses = [g for g in range(0, 9)
               if _close(discrete, 4, 5, 0, g, BombType.SQUIGGLY, 0) is None]
     assert misses  # some gaps let them pass...

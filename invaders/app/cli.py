@@ -8,7 +8,8 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from invaders import __version__
-from invaders.engine.broadphase import BROADPHASES, DEFAULT_CELL
+from invaders.engine.detector import BROADPHASES
+from invaders.engine.grid import DEFAULT_CELL
 from invaders.lab.autopilot import STYLES
 
 MAX_TICKS = 100_000_000
@@ -100,7 +101,6 @@ def cmd_run(args: argparse.Namespace) -> int:
     use_dummy_drivers()
     from invaders.app.report import report_format
     from invaders.app.summary import summary_lines
-    from invaders.engine.detector import make_detector
     from invaders.game.world import World
     from invaders.lab.autopilot import Autopilot
 
@@ -109,7 +109,7 @@ def cmd_run(args: argparse.Namespace) -> int:
             report_format(args.report)
         except ValueError as err:
             raise UsageError(str(err)) from None
-    world = World(seed=args.seed, detector=make_detector(args.broadphase, args.cell))
+    world = World(seed=args.seed, broadphase=args.broadphase, cell=args.cell)
     source = Autopilot(args.seed, args.autopilot) if args.autopilot else Idle()
     recorder = None
     if args.record is not None:

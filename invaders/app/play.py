@@ -13,14 +13,12 @@ from collections.abc import Callable, Iterator
 import pygame
 
 from invaders.app.loop import FixedStepLoop
-from invaders.app.render import Renderer
+from invaders.app.render import CandidateWatch, Renderer
 from invaders.atomic import atomic_path
-from invaders.engine.detector import make_detector
-from invaders.engine.stats import CollisionStats
 from invaders.game.actions import Action
 from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.replay import Recorder, Replay
-from invaders.game.world import World
+from invaders.game.world import TickReport, World
 from invaders.lab.autopilot import Autopilot
 
 LEFT_KEYS = (pygame.K_LEFT, pygame.K_a)
@@ -59,9 +57,20 @@ class Session:
         self.inputs: Iterator[int] | None = replay.actions() if replay else None
         self.replay_done = False
         self.recorder = recorder
-        self.overlay = overlay
+        self.watch = CandidateWatch()
+        self.overlay = False
+        self.set_overlay(overlay)
         self.paused = False
-        self.stats: CollisionStats | None = None
+        self.report: TickReport | None = None
+
+    def set_overlay(self, on: bool) -> None:
+        """The overlay watches the detector only while it is shown: off, it costs nothing."""
+        observers = self.world.detector.observers
+        if on and self.watch not in observers:
+            observers.append(self.watch)
+        elif not on and self.watch in observers:
+            observers.remove(self.watch)
+        self.overlay = on
 
     def handle(self, event: pygame.event.Event) -> bool:
         """React to one window event; False means quit."""
@@ -74,7 +83,7 @@ class Session:
                 self.paused = not self.paused
                 self.loop.resume()
             elif event.key == pygame.K_F3:
-                self.overlay = not self.overlay
+                self.set_overlay(not self.overlay)
         return True
 
     def frame(self, held: int) -> None:
@@ -88,10 +97,11 @@ class Session:
                 if bits is None:
                     self.replay_done = True
                     break
-            self.stats = self.world.step(bits).stats
+            self.report = self.world.step(bits)
             if self.recorder is not None:
                 self.recorder.tick(bits)
-        self.renderer.draw(self.target, self.world, alpha, self.overlay, self.stats,
+        self.renderer.draw(self.target, self.world, alpha, self.overlay, self.report,
+                           self.watch.pairs,
                            self.paused)
 
 
@@ -110,9 +120,9 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool 
     error, always atomically: at worst the last few seconds are lost, never the file.
     """
     if replay is not None:
-        world = World(replay.seed, replay.config, detector=make_detector(broadphase))
+        world = World(replay.seed, replay.config, broadphase=broadphase)
     else:
-        world = World(seed=seed, detector=make_detector(broadphase))
+        world = World(seed=seed, broadphase=broadphase)
     recorder = Recorder(world, record, SAVE_EVERY) if record else None
     window = open_window(scale)
     session = Session(world, window, time.perf_counter, scale, replay, speed, recorder,
@@ -143,13 +153,16 @@ def screenshot(path: str, seed: int = 0, ticks: int = 600, scale: int = 3,
     from invaders.app.headless import use_dummy_drivers
 
     use_dummy_drivers()
-    world = World(seed=seed, detector=make_detector(broadphase))
+    world = World(seed=seed, broadphase=broadphase)
     pilot = Autopilot(seed)
-    stats = None
+    watch = CandidateWatch()
+    if overlay:
+        world.detector.observers.append(watch)
+    report = None
     for _ in range(ticks):
-        stats = world.step(pilot.actions(world)).stats
+        report = world.step(pilot.actions(world))
     target = pygame.Surface((SCREEN_W * scale, SCREEN_H * scale))
-    Renderer(scale).draw(target, world, 0.0, overlay, stats)
+    Renderer(scale).draw(target, world, 0.0, overlay, report, watch.pairs)
     with atomic_path(path) as tmp:
         pygame.image.save(target, tmp)
     print(f"saved {path} after {ticks} ticks (seed {seed})")

@@ -1,5 +1,8 @@
 """Draws a World at any integer scale; never writes it. Debug overlay: grid, pairs, counters.
 
+The overlay draws the cells and counters the tick report names and the candidate pairs a
+`CandidateWatch` saw (an observer of the detector, attached only while the overlay is on).
+
 Everything is drawn in white on the logical 224x256 screen, tinted by the cabinet's coloured
 gel strips (red over the saucer lane, green over the shields and the cannon), then scaled.
 The overlay is drawn after scaling so its lines and text stay sharp.
@@ -7,15 +10,17 @@ The overlay is drawn after scaling so its lines and text stay sharp.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import pygame
 
 from invaders.app import font
-from invaders.engine.broadphase import Grid
-from invaders.engine.stats import CollisionStats
+from invaders.engine.broadphase import Pair, Scene
+from invaders.engine.stats import CollisionStats, Contact
 from invaders.game import art
 from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.entities import BOMB_PICTURES, CannonState
-from invaders.game.world import Phase, World
+from invaders.game.world import Phase, TickReport, World
 
 WHITE = (255, 255, 255, 255)
 BACKGROUND = (0, 0, 0)
@@ -34,6 +39,20 @@ def gel_surface() -> pygame.Surface:
     gel.fill(GREEN_GEL, pygame.Rect(0, 184, SCREEN_W, 56))
     gel.fill(GREEN_GEL, pygame.Rect(24, 240, 112, 16))
     return gel
+
+
+class CandidateWatch:
+    """Observes the detector: the last detection's candidate pairs, as ids."""
+
+    def __init__(self) -> None:
+        self.pairs: list[tuple[int, int]] = []
+
+    def before(self, scene: Scene) -> None:
+        pass
+
+    def after(self, scene: Scene, candidates: Sequence[Pair], contacts: Sequence[Contact],
+              stats: CollisionStats) -> None:
+        self.pairs = [(a.id, b.id) for a, b, _ in candidates]
 
 
 class Renderer:
@@ -57,9 +76,10 @@ class Renderer:
             self.screen.blit(self.sprite(font.glyph(ch)), (x + i * font.ADVANCE, y))
 
     def draw(self, target: pygame.Surface, world: World, alpha: float = 0.0,
-             overlay: bool = False, stats: CollisionStats | None = None,
-             paused: bool = False) -> None:
-        """Paint the world (movers interpolated by `alpha` of a tick) onto `target`."""
+             overlay: bool = False, report: TickReport | None = None,
+             pairs: Sequence[tuple[int, int]] = (), paused: bool = False) -> None:
+        """Paint the world (movers interpolated by `alpha` of a tick) onto `target`; with
+        `overlay`, the last tick's cells, candidate `pairs` and counters over it."""
         screen = self.screen
         screen.fill(BACKGROUND)
         self._draw_hud(world)
@@ -75,7 +95,7 @@ class Renderer:
         else:
             pygame.transform.scale(screen, target.get_size(), target)
         if overlay:
-            self._draw_overlay(target, world, stats)
+            self._draw_overlay(target, world, report, pairs)
 
     def _draw_hud(self, world: World) -> None:
         self.text("SCORE<1> HI-SCORE", 8, 8)
@@ -125,20 +145,19 @@ class Renderer:
         elif state.hit_steps > 0:
             self.text(str(state.hit_score), state.hit_x + 4, lane)
 
-    def _draw_overlay(self, target: pygame.Surface, world: World,
-                      stats: CollisionStats | None) -> None:
+    def _draw_overlay(self, target: pygame.Surface, world: World, report: TickReport | None,
+                      pairs: Sequence[tuple[int, int]]) -> None:
         s = self.scale
-        detector = world.detector
-        broadphase = detector.broadphase
-        if isinstance(broadphase, Grid):
-            step = broadphase.cell * s
+        if report is not None and report.cell:
+            step = report.cell * s
             w, h = target.get_size()
             for x in range(0, w, step):
                 pygame.draw.line(target, GRID_COLOUR, (x, 0), (x, h))
             for y in range(0, h, step):
                 pygame.draw.line(target, GRID_COLOUR, (0, y), (w, y))
-        for a_id, b_id in detector.last_pairs:
-            a, b = world.by_id.get(a_id), world.by_id.get(b_id)
+        by_id = world.store.by_id
+        for a_id, b_id in pairs:
+            a, b = by_id.get(a_id), by_id.get(b_id)
             if a is not None and b is not None:
                 pygame.draw.line(target, PAIR_COLOUR, _centre(a, s), _centre(b, s), 2)
                 for body in (a, b):
@@ -148,7 +167,7 @@ class Renderer:
             pygame.font.init()
             self._font = pygame.font.Font(None, 7 * s)
         labels = [self._font.render(line, True, (255, 255, 255))
-                  for line in overlay_lines(world.tick, broadphase, stats)]
+                  for line in overlay_lines(world.tick, report)]
         width = max(label.get_width() for label in labels) + 2 * s
         height = sum(label.get_height() for label in labels) + 2 * s
         panel = pygame.Surface((width, height), pygame.SRCALPHA)
@@ -160,11 +179,12 @@ class Renderer:
         target.blit(panel, (target.get_width() - width - s, 34 * s))
 
 
-def overlay_lines(tick: int, broadphase: object, stats: CollisionStats | None) -> list[str]:
+def overlay_lines(tick: int, report: TickReport | None) -> list[str]:
     """The counters as a few short lines: each pipeline step, what it considered."""
-    name = getattr(broadphase, "name", "?")
-    cell = getattr(broadphase, "cell", None)
-    lines = [f"tick {tick}  {name}" + (f" {cell}px" if cell else "")]
+    if report is None:
+        return [f"tick {tick}"]
+    stats = report.stats
+    lines = [f"tick {tick}  {report.broadphase}" + (f" {report.cell}px" if report.cell else "")]
     if stats is not None:
         lines += [
             f"objects {stats.objects}  naive {stats.naive_pairs}",

@@ -1,41 +1,26 @@
-"""The record the pipeline reads: an id, a kind, an integer box, a mask, and where it was."""
+"""The record the engine reads: an id, a kind, an integer box, a mask, and where it was."""
 
 from __future__ import annotations
 
-from enum import IntEnum
-
 import pygame
-
-
-class Kind(IntEnum):
-    """What a body is, for the rules table. Values are stable: they appear in reports."""
-
-    CANNON = 1
-    SHOT = 2
-    BOMB = 3
-    ALIEN = 4
-    BUNKER = 5
-    SAUCER = 6
-
-
-# Kinds whose masks erode: never swept or cached, the other side of a pair is swept instead.
-ERODIBLE = frozenset({Kind.BUNKER})
 
 
 class Body:
     """A collidable thing at integer position (x, y), the top-left of its w x h box.
 
-    `moved_tick` says on which tick (px, py) was last saved: a body that has not moved this
-    tick is where it was at the tick's start, whatever px, py still hold. `shaped_tick` is the
-    tick it appeared or last changed its mask on: a tick's contacts are the touches after
-    its first instant (that instant was the previous tick's last), and at that instant too
-    when a body in the pair was born or changed shape in it (a new configuration).
+    `kind` is a small integer the engine's user defines (an IntEnum works). `moved_tick`
+    says on which tick (px, py) was last saved: a body that has not moved this tick is where
+    it was at the tick's start, whatever px, py still hold. `shaped_tick` is the tick it
+    appeared or last gained pixels: a tick's contacts are the touches after its first
+    instant (that instant was the previous tick's last), and at that instant too when a
+    body in the pair is new in it. Change bodies through a `BodyStore`, which keeps these
+    fields and tells the broad phase.
     """
 
     __slots__ = ("alive", "h", "id", "kind", "mask", "moved_tick", "px", "py", "shaped_tick",
                  "w", "x", "y")
 
-    def __init__(self, body_id: int, kind: Kind, x: int, y: int, mask: pygame.mask.Mask) -> None:
+    def __init__(self, body_id: int, kind: int, x: int, y: int, mask: pygame.mask.Mask) -> None:
         self.id = body_id
         self.kind = kind
         self.x = x
@@ -49,7 +34,7 @@ class Body:
         self.alive = True
 
     def start_of_tick(self, tick: int) -> tuple[int, int]:
-        """Where this body was when `tick` began (for swept tests)."""
+        """Where this body was when `tick` began."""
         if self.moved_tick == tick:
             return self.px, self.py
         return self.x, self.y

@@ -1,56 +1,101 @@
-"""detect(scene) -> (contacts, stats): reduce, quick test, thorough test. Mutates nothing.
+"""detect(store) -> (contacts, stats): reduce, quick test, thorough test. Reads only.
 
-Step 1 keeps only pairs of kinds the rules table lists (inside their zones) and asks the
-broad phase for candidates; step 2 tests boxes (swept boxes for swept entries); step 3 tests
-pixels where the entry says the shape is not its box, or walks the relative motion for swept
-entries. Response (step 4) is someone else's job: see response.py.
+Step 1 keeps only pairs of kinds the rules table lists (inside their zones, judged on each
+body's box over the whole tick) and asks the broad phase for candidates; step 2 tests boxes
+(swept boxes for swept entries); step 3 tests pixels where the entry says the shape is not
+its box, or walks the relative motion for swept entries. Every contact carries its time of
+first touch within the tick; they come out in (time, low id, high id) order. Step 4,
+response, is `response.respond`.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from typing import Protocol
+
+import pygame
 
 from invaders.engine import predicates
-from invaders.engine.body import ERODIBLE, Body, tick_box
+from invaders.engine.body import Body, tick_box
 from invaders.engine.broadphase import (
-    DEFAULT_CELL,
     BroadPhase,
+    Brute,
     Group,
     KindSets,
+    Pair,
     Scene,
-    make_broadphase,
+    SortAndSweep,
 )
-from invaders.engine.rules import RULES, Motion, PairRule, Shape, probed_kinds, swept_kinds
-from invaders.engine.stats import CollisionStats, Contact
+from invaders.engine.grid import DEFAULT_CELL, Grid
+from invaders.engine.rules import Motion, PairRule, RuleTable, Shape, Zone
+from invaders.engine.stats import END, CollisionStats, Contact, contact_order, impact_time
+from invaders.engine.store import BodyStore
 
 QuickTest = Callable[[tuple[int, int, int, int], tuple[int, int, int, int]], bool]
+BROADPHASES = ("grid", "brute", "sweep")
 
 
-def _in_zone(body: Body, zone: tuple[int, int, int, int]) -> bool:
-    zx, zy, zw, zh = zone
-    return predicates.rects_overlap(body.x, body.y, body.w, body.h, zx, zy, zw, zh)
+def make_broadphase(name: str, cell: int = DEFAULT_CELL) -> BroadPhase:
+    """A broad phase by its command-line name."""
+    if name == "grid":
+        return Grid(cell)
+    if name == "brute":
+        return Brute()
+    if name == "sweep":
+        return SortAndSweep()
+    raise ValueError(f"unknown broad phase {name!r} (choose from {', '.join(BROADPHASES)})")
 
 
-def _shape_mask(body: Body, shape: Shape):  # -> pygame.mask.Mask
+class DetectionObserver(Protocol):
+    """Something that watches each detection: an overlay, a timer, a recorder, the oracle.
+
+    `before` runs as detection starts, `after` once it is done and before any response, so
+    the scene is exactly what the detector saw. Observers are called in the order they were
+    added after, and in the reverse order before: the first one added wraps the tightest.
+    """
+
+    def before(self, scene: Scene) -> None: ...
+
+    def after(self, scene: Scene, candidates: Sequence[Pair], contacts: Sequence[Contact],
+              stats: CollisionStats) -> None: ...
+
+
+def _in_zone(body: Body, zone: Zone, tick: int) -> bool:
+    """Whether the body's box over the whole tick meets the zone: a body that crosses it
+    within one tick is in it."""
+    x0, y0, x1, y1 = tick_box(body, tick)
+    return any(x0 < zx + zw and zx < x1 and y0 < zy + zh and zy < y1
+               for zx, zy, zw, zh in zone)
+
+
+def _shape_mask(body: Body, shape: Shape) -> pygame.mask.Mask:
     return body.mask if shape is Shape.MASK else predicates.solid_mask(body.w, body.h)
 
 
 class Detector:
     """A rules table and a broad phase; holds only the broad phase's own bookkeeping."""
 
-    def __init__(self, broadphase: BroadPhase, rules: tuple[PairRule, ...] = RULES,
+    def __init__(self, broadphase: BroadPhase, rules: RuleTable,
                  quick: QuickTest | None = None) -> None:
         self.broadphase = broadphase
         self.rules = rules
         self.quick = quick  # None: exact box overlap, inlined; else a study's stand-in
-        self.swept = swept_kinds(rules)
-        self.kinds = KindSets(self.swept, probed_kinds(rules))
+        self.kinds = KindSets(rules.swept_kinds(), rules.probed_kinds())
+        self.eroding = rules.eroding
+        self.observers: list[DetectionObserver] = []
         self._table = tuple((rule, rule.a, rule.b, rule.zone) for rule in rules)
         self._plans: dict[int, tuple] = {}  # kinds present (bit mask) -> entries that apply
-        self.last_pairs: Sequence[tuple[int, int]] = ()  # last tick's candidates, for overlays
 
-    def detect(self, scene: Scene) -> tuple[list[Contact], CollisionStats]:
-        by_kind = scene.by_kind
+    def detect(self, store: BodyStore) -> tuple[list[Contact], CollisionStats]:
+        """This tick's contacts in (time, low id, high id) order, and the counters."""
+        if store.listener is not self.broadphase:
+            store.attach(self.broadphase)
+            self.broadphase.rebuild(store, self.kinds)
+        observers = self.observers
+        for observer in reversed(observers):
+            observer.before(store)
+        by_kind = store.by_kind
+        tick = store.tick
         n = 0
         present = 0
         for kind, bodies in by_kind.items():
@@ -68,16 +113,14 @@ class Detector:
             side_a: Sequence[Body] = by_kind[kind_a]
             side_b: Sequence[Body] = by_kind[kind_b]
             if zone is not None:
-                side_a = [body for body in side_a if _in_zone(body, zone)]
-                side_b = [body for body in side_b if _in_zone(body, zone)]
+                side_a = [body for body in side_a if _in_zone(body, zone, tick)]
+                side_b = [body for body in side_b if _in_zone(body, zone, tick)]
                 if not side_a or not side_b:
                     continue
             allowed += len(side_a) * len(side_b)
             groups.append((rule, side_a, side_b))
-        pairs = self.broadphase.pairs(scene, groups, self.kinds) if groups else []
-        self.last_pairs = [(a.id, b.id) for a, b, _ in pairs] if pairs else ()
+        pairs = self.broadphase.pairs(store, groups, self.kinds) if groups else []
 
-        tick = scene.tick
         quick = self.quick
         contacts: list[Contact] = []
         rect_tests = rect_hits = mask_tests = mask_hits = swept_tests = 0
@@ -86,7 +129,7 @@ class Detector:
             if quick is not None and not quick(_xywh(a, tick, rule), _xywh(b, tick, rule)):
                 continue
             if rule.motion is Motion.SWEPT:
-                box_hit, contact = self._swept(a, b, rule, tick)
+                box_hit, contact = self._walk(a, b, rule, tick, landed=False)
                 if box_hit:
                     rect_hits += 1
                     swept_tests += 1
@@ -107,47 +150,64 @@ class Detector:
                 mask_hits += 1
             else:
                 point = (max(a.x, b.x), max(a.y, b.y))
-            contacts.append(Contact(tick, a.id, b.id, a.kind, b.kind, a.x, a.y, b.x, b.y, *point))
+            if rule.motion is Motion.LANDING:
+                contacts.append(Contact(tick, END, a.id, b.id, a.kind, b.kind, a.x, a.y,
+                                        b.x, b.y, *point, rule))
+                continue
+            # Discrete: found where they landed; its time is when they first touched.
+            _, walked = self._walk(a, b, rule, tick, landed=True)
+            time = walked.time if walked is not None else END
+            contacts.append(Contact(tick, time, a.id, b.id, a.kind, b.kind, a.x, a.y, b.x, b.y,
+                                    *point, rule))
+        if len(contacts) > 1:
+            contacts.sort(key=contact_order)
         stats = CollisionStats(n, n * (n - 1) // 2, allowed, len(pairs), rect_tests, rect_hits,
                                mask_tests, mask_hits, swept_tests, len(contacts))
+        for observer in observers:
+            observer.after(store, pairs, contacts, stats)
         return contacts, stats
 
-    def _swept(self, a: Body, b: Body, rule: PairRule, tick: int) -> tuple[bool, Contact | None]:
-        """Swept box test, then the pixel walk: (did the boxes meet, the contact or None)."""
+    def _walk(self, a: Body, b: Body, rule: PairRule, tick: int,
+              landed: bool) -> tuple[bool, Contact | None]:
+        """Swept box test, then the pixel walk along the relative motion: (did the boxes
+        meet, the first touch or None). With `landed`, the pair is known to touch where it
+        landed and only the time of first touch is wanted."""
         apx, apy = (a.px, a.py) if a.moved_tick == tick else (a.x, a.y)
         bpx, bpy = (b.px, b.py) if b.moved_tick == tick else (b.x, b.y)
         ox, oy = bpx - apx, bpy - apy  # b relative to a at the tick's start
         dx = (b.x - bpx) - (a.x - apx)
         dy = (b.y - bpy) - (a.y - apy)
-        # The quick test, predicates.swept_box_overlap inlined (this is the hot path): b's box
-        # swept from (ox, oy) by (dx, dy) against a's box at the origin.
-        sx0 = ox + dx if dx < 0 else ox
-        sy0 = oy + dy if dy < 0 else oy
-        if not (sx0 < a.w and sx0 + b.w + abs(dx) > 0 and sy0 < a.h and sy0 + b.h + abs(dy) > 0):
-            return False, None
+        if not landed:
+            # The quick test, predicates.swept_box_overlap inlined (this is the hot path):
+            # b's box swept from (ox, oy) by (dx, dy) against a's box at the origin.
+            sx0 = ox + dx if dx < 0 else ox
+            sy0 = oy + dy if dy < 0 else oy
+            if not (sx0 < a.w and sx0 + b.w + abs(dx) > 0 and sy0 < a.h
+                    and sy0 + b.h + abs(dy) > 0):
+                return False, None
         a_mask = _shape_mask(a, rule.shape_of(a.kind))
         b_mask = _shape_mask(b, rule.shape_of(b.kind))
-        if b.kind not in ERODIBLE:
-            found = predicates.first_swept_contact(a_mask, b_mask, ox, oy, dx, dy,
-                                                   a.shaped_tick == tick or b.shaped_tick == tick)
+        fresh = a.shaped_tick == tick or b.shaped_tick == tick
+        if b.kind not in self.eroding:
+            found = predicates.first_swept_contact(a_mask, b_mask, ox, oy, dx, dy, fresh)
             if found is None:
                 return True, None
             step, steps, (hx, hy) = found
             ax, ay = _at(apx, apy, a.x, a.y, step, steps)
             sx, sy = predicates.substeps(dx, dy)[step]
             bx, by = ax + ox + sx, ay + oy + sy
-            return True, Contact(tick, a.id, b.id, a.kind, b.kind, ax, ay, bx, by,
-                                 ax + hx, ay + hy)
+            return True, Contact(tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
+                                 ax, ay, bx, by, ax + hx, ay + hy, rule)
         # b erodes (a shield): sweep a against it instead, so only shared masks are swept.
-        found = predicates.first_swept_contact(b_mask, a_mask, -ox, -oy, -dx, -dy,
-                                               a.shaped_tick == tick or b.shaped_tick == tick)
+        found = predicates.first_swept_contact(b_mask, a_mask, -ox, -oy, -dx, -dy, fresh)
         if found is None:
             return True, None
         step, steps, (hx, hy) = found
         bx, by = _at(bpx, bpy, b.x, b.y, step, steps)
         sx, sy = predicates.substeps(-dx, -dy)[step]
         ax, ay = bx - ox + sx, by - oy + sy
-        return True, Contact(tick, a.id, b.id, a.kind, b.kind, ax, ay, bx, by, bx + hx, by + hy)
+        return True, Contact(tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
+                             ax, ay, bx, by, bx + hx, by + hy, rule)
 
 
 def _xywh(body: Body, tick: int, rule: PairRule) -> tuple[int, int, int, int]:
@@ -162,8 +222,3 @@ def _at(x0: int, y0: int, x1: int, y1: int, step: int, steps: int) -> tuple[int,
         return x1, y1
     return (x0 + predicates.round_div((x1 - x0) * step, steps),
             y0 + predicates.round_div((y1 - y0) * step, steps))
-
-
-def make_detector(broadphase: str = "grid", cell: int = DEFAULT_CELL) -> Detector:
-    """A detector with the default rules and the named broad phase."""
-    return Detector(make_broadphase(broadphase, cell))

@@ -1,10 +1,9 @@
-"""Values the pipeline returns: per-tick counters and contact records (no global state)."""
+"""Values the detector returns: per-tick counters and contact records (no global state)."""
 
 from __future__ import annotations
 
+from fractions import Fraction
 from typing import NamedTuple
-
-from invaders.engine.body import Kind
 
 
 class CollisionStats(NamedTuple):
@@ -28,19 +27,37 @@ class CollisionStats(NamedTuple):
 
 STAT_FIELDS: tuple[str, ...] = CollisionStats._fields
 
+START = Fraction(0)  # the tick's first instant
+END = Fraction(1)  # its last: where things land
+
+
+def impact_time(step: int, steps: int) -> Fraction:
+    """The time of substep `step` of `steps` within the tick, in the one time base of every
+    contact: 0 is the tick's first instant, 1 its last."""
+    return Fraction(step, steps) if steps else START
+
 
 class Contact(NamedTuple):
-    """Two bodies touching on a tick: ids in order (low first), where each was at first
-    contact (swept contacts may be earlier than the tick's end), and one shared pixel."""
+    """Two bodies touching on a tick: the time of first touch within it (an exact fraction,
+    0 to 1), ids in order (low first), where each was at contact (for a swept entry the
+    first touch, for the others where they landed), one shared pixel, and the rules entry
+    that found it."""
 
     tick: int
+    time: Fraction
     a_id: int
     b_id: int
-    a_kind: Kind
-    b_kind: Kind
+    a_kind: int
+    b_kind: int
     ax: int
     ay: int
     bx: int
     by: int
     px: int
     py: int
+    rule: object  # the PairRule (typed loosely: rules.py builds on this module)
+
+
+def contact_order(contact: Contact) -> tuple[Fraction, int, int]:
+    """The order contacts are applied in: earliest first, ties by (low id, high id)."""
+    return contact.time, contact.a_id, contact.b_id

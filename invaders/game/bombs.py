@@ -4,10 +4,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from invaders.engine.store import BodyStore
 from invaders.game.config import GameConfig
 from invaders.game.entities import BOMB_MASKS, Bomb, BombType
 from invaders.game.rack import Rack
-from invaders.game.registry import Registry
 
 
 @dataclass
@@ -32,11 +32,11 @@ def new_slots() -> list[BombSlot]:
     return [BombSlot(t) for t in BombType]
 
 
-def reset_slots(slots: list[BombSlot], registry: Registry) -> None:
+def reset_slots(slots: list[BombSlot], store: BodyStore) -> None:
     """Clear all bombs (wave start); rolling skips its next attempt."""
     for slot in slots:
         if slot.bomb is not None:
-            registry.remove(slot.bomb)
+            store.remove(slot.bomb)
         slot.bomb = None
         slot.burst = 0
         slot.steps = 0
@@ -60,27 +60,26 @@ def choose_column(slot: BombSlot, config: GameConfig, cannon_centre: int, rack: 
     return col
 
 
-def spawn(slot: BombSlot, rack: Rack, col: int, registry: Registry) -> Bomb | None:
+def spawn(slot: BombSlot, rack: Rack, col: int, store: BodyStore) -> Bomb | None:
     """Drop a bomb from the lowest live alien of `col` (cell x + 7, 10 rows below its top)."""
     shooter = rack.lowest_in_column(col)
     if shooter is None:
         return None
-    bomb = Bomb(registry.new_id(), slot.btype, shooter.x + 7, shooter.top + 10)
-    registry.add(bomb)
+    bomb = Bomb(store.new_id(), slot.btype, shooter.x + 7, shooter.top + 10)
+    store.add(bomb)
     slot.bomb = bomb
     slot.steps = 0
     return bomb
 
 
-def advance(slot: BombSlot, speed: int, registry: Registry) -> None:
+def advance(slot: BombSlot, speed: int, store: BodyStore) -> None:
     """One bomb step: down `speed` px, next picture."""
     bomb = slot.bomb
     assert bomb is not None
     slot.steps += 1
     bomb.frame = (bomb.frame + 1) % 4
-    bomb.mask = BOMB_MASKS[bomb.btype][bomb.frame]
-    bomb.shaped_tick = registry.tick
-    registry.move(bomb, bomb.x, bomb.y + speed)
+    store.reshape(bomb, BOMB_MASKS[bomb.btype][bomb.frame])
+    store.move(bomb, bomb.x, bomb.y + speed)
 
 
 def start_burst(slot: BombSlot, x: int, y: int, steps: int) -> None:

@@ -7,8 +7,9 @@ from enum import Enum, IntEnum
 
 import pygame
 
-from invaders.engine.body import Body, Kind
+from invaders.engine.body import Body
 from invaders.game import art
+from invaders.game.kinds import Kind
 
 
 def footprint_mask(picture: art.Art) -> pygame.mask.Mask:
@@ -28,9 +29,10 @@ class Alien(Body):
 
     __slots__ = ("col", "frame", "index", "row")
 
-    def __init__(self, body_id: int, index: int, x: int, top: int, frame: int) -> None:
+    def __init__(self, body_id: int, index: int, row: int, col: int, x: int, top: int,
+                 frame: int) -> None:
         self.index = index
-        self.row, self.col = divmod(index, 11)
+        self.row, self.col = row, col
         self.frame = frame
         super().__init__(body_id, Kind.ALIEN, x, top - 8, ALIEN_MASKS[self.row][frame])
 

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
+from invaders.engine.store import BodyStore
 from invaders.game import art
 from invaders.game.config import GameConfig
 from invaders.game.entities import ALIEN_MASKS, Alien
-from invaders.game.registry import Registry
 
 
 class Rack:
@@ -16,7 +16,7 @@ class Rack:
     edge bump) and the picture frame toggles. N live aliens therefore take N ticks a step.
     """
 
-    def __init__(self, config: GameConfig, top: int, registry: Registry) -> None:
+    def __init__(self, config: GameConfig, top: int, store: BodyStore) -> None:
         g = config.geometry
         self.config = config
         self.ref_x = g.rack_left
@@ -27,9 +27,9 @@ class Rack:
         self.aliens: list[Alien | None] = []
         for index in range(g.rows * g.cols):
             row, col = divmod(index, g.cols)
-            alien = Alien(registry.new_id(), index, self.ref_x + g.cell * col,
+            alien = Alien(store.new_id(), index, row, col, self.ref_x + g.cell * col,
                           top - g.cell * row, 0)
-            registry.add(alien)
+            store.add(alien)
             self.aliens.append(alien)
         self.live = len(self.aliens)
 
@@ -46,13 +46,13 @@ class Rack:
                 return alien
         return None
 
-    def kill(self, alien: Alien, registry: Registry) -> None:
+    def kill(self, alien: Alien, store: BodyStore) -> None:
         """Take an alien out of the rack (the cursor skips it from now on)."""
         self.aliens[alien.index] = None
         self.live -= 1
-        registry.remove(alien)
+        store.remove(alien)
 
-    def step(self, registry: Registry) -> Alien | None:
+    def step(self, store: BodyStore) -> Alien | None:
         """Draw the next live alien at its place relative to the reference; wrap if last."""
         if self.live == 0:
             return None
@@ -67,9 +67,8 @@ class Rack:
         row, col = divmod(index, g.cols)
         if alien.frame != self.frame:
             alien.frame = self.frame
-            alien.mask = ALIEN_MASKS[row][self.frame]
-            alien.shaped_tick = registry.tick
-        registry.move(alien, self.ref_x + g.cell * col, self.ref_top - g.cell * row - 8)
+            store.reshape(alien, ALIEN_MASKS[row][self.frame])
+        store.move(alien, self.ref_x + g.cell * col, self.ref_top - g.cell * row - 8)
         self.cursor = index + 1
         if self._next_live(self.cursor) is None:
             self._wrap()

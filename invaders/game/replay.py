@@ -18,10 +18,9 @@ from typing import Any
 
 from invaders import __version__
 from invaders.atomic import write_atomic
-from invaders.engine.detector import make_detector
 from invaders.game.actions import ALL_ACTIONS
-from invaders.game.config import GameConfig
-from invaders.game.statehash import GROUPS, combine, group_hashes
+from invaders.game.config import ConfigError, GameConfig
+from invaders.game.statehash import GROUPS, combine
 from invaders.game.world import World
 
 FORMAT = "invaders-replay"
@@ -48,7 +47,7 @@ class Checkpoint:
 
     @classmethod
     def of(cls, world: World) -> Checkpoint:
-        groups = group_hashes(world)
+        groups = world.group_hashes()
         return cls(world.tick, combine(groups), world.score, world.ships, world.wave,
                    world.kind_counts(), groups)
 
@@ -119,6 +118,14 @@ def _int(value: Any, name: str, low: int = 0, high: int = 2**63 - 1) -> int:
     return value
 
 
+# Config fields added after files were first written: a file without one was recorded by a
+# program that had the default value written into its code, so the default is what it meant.
+ADDED_LATER: dict[str, frozenset[str]] = {
+    "config.geometry": frozenset({"saucer_start_left", "saucer_start_right",
+                                  "saucer_exit_left", "saucer_exit_right"}),
+}
+
+
 def _config(data: Any, cls: type = GameConfig, name: str = "config") -> Any:
     """Rebuild a frozen config dataclass, checking every field's type against its default."""
     _need(isinstance(data, dict), f"{name} must be an object")
@@ -129,6 +136,9 @@ def _config(data: Any, cls: type = GameConfig, name: str = "config") -> Any:
         raise ReplayError(f"{name} has unknown field {unknown[0]!r}")
     values = {}
     for key in fields:
+        if key not in data and key in ADDED_LATER.get(name, ()):
+            values[key] = getattr(defaults, key)
+            continue
         _need(key in data, f"{name} lacks field {key!r}")
         default = getattr(defaults, key)
         value = data[key]
@@ -142,6 +152,8 @@ def _config(data: Any, cls: type = GameConfig, name: str = "config") -> Any:
             values[key] = _int(value, where, 1 if key == "tick_hz" else 0, 10**9)
     try:
         return cls(**values)
+    except ConfigError as err:  # names the field, its value and its range
+        raise ReplayError(str(err)) from None
     except (TypeError, ValueError) as err:
         raise ReplayError(f"{name}: {err}") from None
 
@@ -289,7 +301,7 @@ def run(replay: Replay, broadphase: str = "grid",
     Returns the result and the checkpoints this run produced (for --update). With
     `recompute`, it does not stop at the first mismatch.
     """
-    world = World(replay.seed, replay.config, detector=make_detector(broadphase))
+    world = World(replay.seed, replay.config, broadphase=broadphase)
     expected = {c.tick: c for c in replay.checkpoints}
     produced: list[Checkpoint] = []
     mismatch = None

@@ -4,14 +4,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from invaders.engine.store import BodyStore
 from invaders.game.config import GameConfig
 from invaders.game.entities import Saucer
-from invaders.game.registry import Registry
-
-START_LEFT_X = 9
-START_RIGHT_X = 192
-GONE_LEFT_X = 8
-GONE_RIGHT_X = 193
 
 
 @dataclass
@@ -42,26 +37,29 @@ def count_down(state: SaucerState, config: GameConfig, ref_top: int) -> None:
         state.timer = config.timing.saucer_timer
 
 
-def launch(state: SaucerState, registry: Registry, top: int, speed: int) -> Saucer:
+def launch(state: SaucerState, store: BodyStore, config: GameConfig) -> Saucer:
     """Start a flight from the side `from_left` says."""
-    x, dx = (START_LEFT_X, speed) if state.from_left else (START_RIGHT_X, -speed)
-    saucer = Saucer(registry.new_id(), x, top, dx)
-    registry.add(saucer)
+    g, speed = config.geometry, config.speeds.saucer
+    x, dx = ((g.saucer_start_left, speed) if state.from_left
+             else (g.saucer_start_right, -speed))
+    saucer = Saucer(store.new_id(), x, g.saucer_top, dx)
+    store.add(saucer)
     state.saucer = saucer
     state.due = False
     return saucer
 
 
-def fly(state: SaucerState, registry: Registry) -> None:
+def fly(state: SaucerState, store: BodyStore, config: GameConfig) -> None:
     """One saucer tick of flight; it leaves at either end of the lane."""
     saucer = state.saucer
     assert saucer is not None
+    g = config.geometry
     x = saucer.x + saucer.dx
-    if x < GONE_LEFT_X or x >= GONE_RIGHT_X:
-        registry.remove(saucer)
+    if x < g.saucer_exit_left or x >= g.saucer_exit_right:
+        store.remove(saucer)
         state.saucer = None
         return
-    registry.move(saucer, x, saucer.y)
+    store.move(saucer, x, saucer.y)
 
 
 def score_for(config: GameConfig, shots_removed: int) -> int:

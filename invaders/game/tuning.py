@@ -1,37 +1,27 @@
-"""Model no more than a scene needs: derive each entry's motion model from proofs.
+"""Model no more than a scene needs: each entry's motion model from proofs, for any speed.
 
-For the speeds of a scene, an entry can stay discrete only if no start offset exists at which
-the sweep meets what neither end meets (for every shape each side can show and every move it
-can make in one tick); against an erodible side (a shield, eroded to any shape) sweeping must
-add no pixel at all. Entries whose outcome is positional stay discrete. At the game's speeds
-this reproduces the hand-written table exactly (a test holds it to that).
+The moves each kind can make in one tick come from the config (projectiles at `multiplier`
+times their speed), the pictures from the art; `engine.proofs.cheapest` keeps an entry
+discrete only where that is proven exact. At the game's speeds this reproduces the
+hand-written table exactly (a test holds it to that).
 """
 
 from __future__ import annotations
 
-import itertools
-from dataclasses import replace
 from functools import cache
 
 import pygame
 
-from invaders.engine.body import ERODIBLE, Kind
-from invaders.engine.rules import (
-    POSITIONAL,
-    RULES,
-    Motion,
-    PairRule,
-    discrete_counterexample,
-    sweep_adds_pixels,
-)
+from invaders.engine.proofs import Move, cheapest
+from invaders.engine.rules import RuleTable
 from invaders.game import art
 from invaders.game.config import DEFAULT_CONFIG, GameConfig
 from invaders.game.entities import ALIEN_MASKS, BOMB_MASKS
+from invaders.game.kinds import Kind
+from invaders.game.rules import make_rules
 
-Move = tuple[int, int]
 
-
-def kind_moves(config: GameConfig = DEFAULT_CONFIG, multiplier: int = 1) -> dict[Kind, list[Move]]:
+def kind_moves(config: GameConfig = DEFAULT_CONFIG, multiplier: int = 1) -> dict[int, list[Move]]:
     """Every displacement a body of each kind can make in one tick ((0, 0): it stayed);
     projectiles (shot, bombs) at `multiplier` times their speed."""
     s = config.speeds
@@ -48,7 +38,7 @@ def kind_moves(config: GameConfig = DEFAULT_CONFIG, multiplier: int = 1) -> dict
     }
 
 
-def kind_masks() -> dict[Kind, list[pygame.mask.Mask]]:
+def kind_masks() -> dict[int, list[pygame.mask.Mask]]:
     """Every picture each kind can show (shields, which erode to anything, aside)."""
     return {
         Kind.SHOT: [art.mask_of(art.SHOT)],
@@ -59,35 +49,7 @@ def kind_masks() -> dict[Kind, list[pygame.mask.Mask]]:
     }
 
 
-def discrete_miss(rule: PairRule, moves: dict[Kind, list[Move]],
-                  masks: dict[Kind, list[pygame.mask.Mask]]) -> tuple | None:
-    """A witness that discrete tests miss for this entry at these moves, or None."""
-    for da, db in itertools.product(moves[rule.a], moves[rule.b]):
-        dx, dy = db[0] - da[0], db[1] - da[1]
-        if rule.b in ERODIBLE or rule.a in ERODIBLE:
-            mover = rule.a if rule.b in ERODIBLE else rule.b
-            sign = -1 if mover is rule.a else 1
-            if any(sweep_adds_pixels(m, sign * dx, sign * dy) for m in masks[mover]):
-                return da, db
-            continue
-        for ma, mb in itertools.product(masks[rule.a], masks[rule.b]):
-            found = discrete_counterexample(ma, mb, dx, dy)
-            if found is not None:
-                return da, db, found
-    return None
-
-
 @cache
-def cheapest_rules(multiplier: int = 1, config: GameConfig = DEFAULT_CONFIG,
-                   rules: tuple[PairRule, ...] = RULES) -> tuple[PairRule, ...]:
-    """The rules with each entry discrete where that is proven exact, swept elsewhere."""
-    moves = kind_moves(config, multiplier)
-    masks = kind_masks()
-    out = []
-    for rule in rules:
-        if frozenset({rule.a, rule.b}) in POSITIONAL:
-            motion = Motion.DISCRETE
-        else:
-            motion = Motion.SWEPT if discrete_miss(rule, moves, masks) else Motion.DISCRETE
-        out.append(replace(rule, motion=motion))
-    return tuple(out)
+def cheapest_rules(multiplier: int = 1, config: GameConfig = DEFAULT_CONFIG) -> RuleTable:
+    """The game's table with each entry discrete where that is proven exact, swept elsewhere."""
+    return cheapest(make_rules(config), kind_moves(config, multiplier), kind_masks())

@@ -1,8 +1,10 @@
 """World: every piece of game state, and step(actions) -> TickReport.
 
 One tick, in order: move (input, cannon, shot, one alien, the bomb type whose turn it is, the
-saucer), detect (reads only), respond (the only writer of collision outcomes), sweep. The
-world owns the only random generator and never reads a clock or touches the display.
+saucer), detect (reads only), respond (each rules entry's response, earliest contact first;
+the only writer of collision outcomes), sweep. Bodies live in the engine's store, which
+tells the broad phase what changed. The world owns the only random generator and never
+reads a clock or touches the display.
 """
 
 from __future__ import annotations
@@ -13,10 +15,13 @@ from enum import IntEnum
 
 import pygame
 
-from invaders.engine.body import Body, Kind
-from invaders.engine.detector import Detector, make_detector
+from invaders.engine.body import Body
+from invaders.engine.detector import Detector, make_broadphase
+from invaders.engine.grid import DEFAULT_CELL
+from invaders.engine.response import respond
 from invaders.engine.stats import CollisionStats, Contact
-from invaders.game import art, bombs, response, saucer, statehash
+from invaders.engine.store import BodyStore
+from invaders.game import art, bombs, saucer, statehash
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG, GameConfig
 from invaders.game.entities import (
@@ -31,7 +36,9 @@ from invaders.game.entities import (
     Shot,
 )
 from invaders.game.events import Event
+from invaders.game.kinds import Kind
 from invaders.game.rack import Rack
+from invaders.game.rules import make_rules
 
 LEFT, RIGHT, FIRE, START = (int(a) for a in (Action.LEFT, Action.RIGHT, Action.FIRE, Action.START))
 
@@ -44,12 +51,16 @@ class Phase(IntEnum):
 
 @dataclass(frozen=True, slots=True)
 class TickReport:
-    """What one tick did: its number, the collision counters, events and contacts."""
+    """What one tick did: its number, the collision counters, events, the contacts applied
+    (earliest first), and the broad phase that found them (its name and cell size in px,
+    0 for none)."""
 
     tick: int
     stats: CollisionStats
     events: tuple[Event, ...]
     contacts: tuple[Contact, ...]
+    broadphase: str = "grid"
+    cell: int = 0
 
 
 class World:
@@ -61,6 +72,7 @@ class World:
         config: GameConfig = DEFAULT_CONFIG,
         broadphase: str = "grid",
         detector: Detector | None = None,
+        cell: int = DEFAULT_CELL,
     ) -> None:
         self.config = config
         self.seed = seed
@@ -68,61 +80,31 @@ class World:
         # UNCERTAIN (13.5): the saucer's side comes from bit 0 of a ROM byte picked by the shot
         # count, a fixed pseudo-random pattern. We draw such a pattern from the seeded generator.
         self.saucer_sides = tuple(self.rng.getrandbits(1) for _ in range(256))
-        self.detector = detector if detector is not None else make_detector(broadphase)
-        self.tick = 0
+        self.rules = make_rules(config)
+        self.detector = detector if detector is not None else Detector(
+            make_broadphase(broadphase, cell), self.rules)
+        self.store = BodyStore(Kind)
         self.hi_score = 0
         self.games = 0
         self.aliens_killed = 0
         self.fire_was_down = False
-        self._next_id = 1
-        self.by_kind: dict[Kind, list[Body]] = {kind: [] for kind in Kind}
-        self.by_id: dict[int, Body] = {}
-        self.dirty: list[Body] = []
         self.events: list[Event] = []
         self.ground = art.fresh_mask(art.GROUND)
         self._new_game()
 
-    # --- the registry the sim parts use --------------------------------------------------
-    def new_id(self) -> int:
-        body_id = self._next_id
-        self._next_id += 1
-        return body_id
-
-    def add(self, body: Body) -> None:
-        body.alive = True
-        body.shaped_tick = self.tick
-        self.by_kind[body.kind].append(body)
-        self.by_id[body.id] = body
-        self.dirty.append(body)
-
-    def move(self, body: Body, x: int, y: int) -> None:
-        if body.moved_tick != self.tick:
-            body.px = body.x
-            body.py = body.y
-            body.moved_tick = self.tick
-            self.dirty.append(body)
-        body.x = x
-        body.y = y
-
-    def remove(self, body: Body) -> None:
-        if body.alive:
-            body.alive = False
-            self.by_kind[body.kind].remove(body)
-            del self.by_id[body.id]
-            self.dirty.append(body)
-
     @property
-    def next_id_value(self) -> int:
-        """The id the next body will get (part of the state: ids order the contacts)."""
-        return self._next_id
+    def tick(self) -> int:
+        """Ticks run so far (the store keeps it: bodies note the tick they moved in)."""
+        return self.store.tick
 
     def kind_counts(self) -> dict[str, int]:
         """Live collidable bodies per kind, by name (what replays compare first)."""
-        return {kind.name.lower(): len(bodies) for kind, bodies in self.by_kind.items()}
+        return {Kind(kind).name.lower(): len(bodies)
+                for kind, bodies in self.store.by_kind.items()}
 
     def bodies(self, kind: Kind) -> list[Body]:
         """Live bodies of a kind, in id order."""
-        return self.by_kind[kind]
+        return self.store.by_kind[kind]
 
     # --- game and wave set-up ------------------------------------------------------------
     def _new_game(self) -> None:
@@ -136,22 +118,23 @@ class World:
     def _start_wave(self, wave: int) -> None:
         cfg = self.config
         g = cfg.geometry
+        store = self.store
         for kind in Kind:
-            for body in list(self.by_kind[kind]):
-                self.remove(body)
+            for body in list(store.by_kind[kind]):
+                store.remove(body)
         self.wave = wave
         self.phase = Phase.PLAYING
         self.phase_timer = 0
-        self.rack = Rack(cfg, cfg.start_top(wave), self)
-        self.bunkers = [Bunker(self.new_id(), x, g.bunker_top) for x in g.bunker_xs]
+        self.rack = Rack(cfg, cfg.start_top(wave), store)
+        self.bunkers = [Bunker(store.new_id(), x, g.bunker_top) for x in g.bunker_xs]
         for bunker in self.bunkers:
-            self.add(bunker)
-        self.cannon = Cannon(self.new_id(), g.cannon_min_x, g.cannon_top)
+            store.add(bunker)
+        self.cannon = Cannon(store.new_id(), g.cannon_min_x, g.cannon_top)
         self.cannon.alive = False
         self._cannon_wait()
         self.shot: Shot | None = None
         self.slots = bombs.new_slots()
-        bombs.reset_slots(self.slots, self)
+        bombs.reset_slots(self.slots, store)
         self.saucer = saucer.SaucerState(timer=cfg.timing.saucer_timer)
         self.shots_removed = 0
         self.explosions: list[Explosion] = []
@@ -166,7 +149,6 @@ class World:
     # --- one tick ------------------------------------------------------------------------
     def step(self, actions: int = 0) -> TickReport:
         """Advance one tick with this tick's input bits; return what happened."""
-        self.events = []
         fire_down = bool(actions & FIRE)
         fire_pressed = fire_down and not self.fire_was_down
         self.fire_was_down = fire_down
@@ -182,20 +164,22 @@ class World:
             if self.phase_timer <= 0 and actions & START:
                 self._new_game()
                 self.events.append(Event.NEW_GAME)
-        contacts, stats = self.detector.detect(self)
-        self.dirty = []
-        if contacts:
-            response.apply(contacts, self)
+        store = self.store
+        contacts, stats = self.detector.detect(store)
+        applied = respond(contacts, store.by_id, self) if contacts else ()
         self._settle()
-        report = TickReport(self.tick, stats, tuple(self.events), tuple(contacts))
-        self.tick += 1
+        broadphase = self.detector.broadphase
+        report = TickReport(store.tick, stats, tuple(self.events), tuple(applied),
+                            broadphase.name, broadphase.cell)
+        self.events = []  # events of set-up (the first wave) go out with tick 0's report
+        store.tick += 1
         return report
 
     def _move(self, actions: int, fire_pressed: bool) -> None:
         self._move_shot()
         self._move_cannon(actions, fire_pressed)
         if self.cannon.state is CannonState.ACTIVE and not self.alien_exploding:
-            alien = self.rack.step(self)
+            alien = self.rack.step(self.store)
             if alien is not None and alien.top >= self.config.geometry.invasion_top:
                 self.events.append(Event.INVASION)
                 self._game_over()
@@ -215,7 +199,7 @@ class World:
             cannon.timer -= 1
             if cannon.timer <= 0:
                 cannon.state = CannonState.ACTIVE
-                self.add(cannon)
+                self.store.add(cannon)
                 self.alien_fire_timer = self.config.timing.alien_fire_delay
             return
         if cannon.state is CannonState.EXPLODING:
@@ -236,10 +220,10 @@ class World:
         if dx:
             x = min(max(cannon.x + dx * self.config.speeds.cannon, g.cannon_min_x), g.cannon_max_x)
             if x != cannon.x:
-                self.move(cannon, x, cannon.y)
+                self.store.move(cannon, x, cannon.y)
         if fire_pressed and self.shot is None and not self.shot_bursting:
-            self.shot = Shot(self.new_id(), cannon.x + 8, g.shot_spawn_top)
-            self.add(self.shot)
+            self.shot = Shot(self.store.new_id(), cannon.x + 8, g.shot_spawn_top)
+            self.store.add(self.shot)
             self.events.append(Event.SHOT_FIRED)
 
     def _move_shot(self) -> None:
@@ -250,13 +234,13 @@ class World:
         if y <= self.config.geometry.shot_top_limit:
             self.burst_shot(shot.x, y)
             return
-        self.move(shot, shot.x, y)
+        self.store.move(shot, shot.x, y)
 
     def _bomb_turn(self, slot: bombs.BombSlot) -> None:
         cfg = self.config
         if slot.bomb is not None:
             fast = self.rack.live <= cfg.speeds.bomb_fast_at
-            bombs.advance(slot, cfg.speeds.bomb_fast if fast else cfg.speeds.bomb, self)
+            bombs.advance(slot, cfg.speeds.bomb_fast if fast else cfg.speeds.bomb, self.store)
             if slot.bomb.y >= cfg.geometry.bomb_ground_top:
                 self._bomb_hits_ground(slot)
             return
@@ -266,7 +250,7 @@ class World:
             return
         if slot.btype is BombType.SQUIGGLY and self.saucer.due:
             if self.rack.live >= cfg.rules.saucer_min_aliens:
-                saucer.launch(self.saucer, self, cfg.geometry.saucer_top, cfg.speeds.saucer)
+                saucer.launch(self.saucer, self.store, cfg)
                 self.events.append(Event.SAUCER_LAUNCHED)
             else:
                 self.saucer.due = False
@@ -287,7 +271,7 @@ class World:
             slot.skip_next = False
             return
         col = bombs.choose_column(slot, cfg, self.cannon.x + 8, self.rack)
-        if col is not None and bombs.spawn(slot, self.rack, col, self) is not None:
+        if col is not None and bombs.spawn(slot, self.rack, col, self.store) is not None:
             self.events.append(Event.BOMB_FIRED)
 
     def _bomb_hits_ground(self, slot: bombs.BombSlot) -> None:
@@ -297,7 +281,7 @@ class World:
         g = self.config.geometry
         x, y = bomb.x - 2, g.ground_row - 7
         self.ground.erase(art.mask_of(art.BOMB_BURST), (x, y - g.ground_row))
-        self.remove(bomb)
+        self.store.remove(bomb)
         bombs.start_burst(slot, x, y, self.config.timing.bomb_burst_steps)
         self.events.append(Event.BOMB_BURST)
 
@@ -309,7 +293,7 @@ class World:
                 self.add_score(state.hit_score)
                 self.events.append(Event.SAUCER_SCORED)
         elif state.saucer is not None:
-            saucer.fly(state, self)
+            saucer.fly(state, self.store, self.config)
 
     def _age_explosions(self) -> None:
         if self.explosions:
@@ -340,7 +324,7 @@ class World:
         """Every removal of the player shot counts for the saucer's score and side."""
         if self.shot is None:
             return
-        self.remove(self.shot)
+        self.store.remove(self.shot)
         self.shot = None
         self.shots_removed += 1
         if self.saucer.saucer is None:
@@ -357,7 +341,7 @@ class World:
     def burst_bomb(self, bomb: Bomb, x: int, y: int) -> None:
         """A bomb bursts with its 6x8 picture at (x - 2, y + 2), punching shields under it."""
         slot = self.slots[bomb.btype]
-        self.remove(bomb)
+        self.store.remove(bomb)
         corner = (x - 2, y + 2)
         self.erode(art.mask_of(art.BOMB_BURST), *corner)
         bombs.start_burst(slot, *corner, self.config.timing.bomb_burst_steps)
@@ -365,11 +349,11 @@ class World:
 
     def remove_bomb(self, bomb: Bomb) -> None:
         """A bomb that hit the cannon just goes (the cannon's explosion is the picture)."""
-        self.remove(bomb)
+        self.store.remove(bomb)
         self.slots[bomb.btype].bomb = None
 
     def kill_alien(self, alien: Alien) -> None:
-        self.rack.kill(alien, self)
+        self.rack.kill(alien, self.store)
         self.aliens_killed += 1
         self.add_score(self.config.rules.alien_points[alien.row])
         self.explosions.append(
@@ -378,7 +362,7 @@ class World:
 
     def kill_cannon(self) -> None:
         cannon = self.cannon
-        self.remove(cannon)
+        self.store.remove(cannon)
         cannon.state = CannonState.EXPLODING
         cannon.timer = self.config.timing.cannon_death
         self.alien_fire_timer = -1
@@ -388,7 +372,7 @@ class World:
         state = self.saucer
         ship = state.saucer
         assert ship is not None
-        self.remove(ship)
+        self.store.remove(ship)
         state.saucer = None
         state.hit_steps = self.config.timing.saucer_hit_steps
         state.hit_x = ship.x
@@ -415,15 +399,51 @@ class World:
         self.phase_timer = self.config.timing.game_over_pause
         self.hi_score = max(self.hi_score, self.score)
         if self.cannon.alive:
-            self.remove(self.cannon)
+            self.store.remove(self.cannon)
         self.remove_shot()
         for slot in self.slots:
             if slot.bomb is not None:
-                self.remove(slot.bomb)
+                self.store.remove(slot.bomb)
                 slot.bomb = None
             slot.burst = 0
         self.events.append(Event.GAME_OVER)
 
+    # --- the state, for replays and determinism tests ------------------------------------
+    def state_groups(self) -> dict[str, object]:
+        """Everything that decides the game's future as plain values, group by group (the
+        groups statehash.GROUPS names), in a fixed order."""
+        rack = self.rack
+        cannon = self.cannon
+        shot = self.shot
+        ship = self.saucer
+        return {
+            "game": (self.seed, self.tick, int(self.phase), self.phase_timer, self.score,
+                     self.hi_score, self.ships, self.extra_awarded, self.wave, self.games,
+                     self.fire_was_down, self.alien_fire_timer, self.shots_removed,
+                     self.store.next_id),
+            "rack": (rack.ref_x, rack.ref_top, rack.dx, rack.frame, rack.cursor, rack.live,
+                     tuple((a.id, a.x, a.y, a.frame) if a is not None else None
+                           for a in rack.aliens)),
+            "cannon": (int(cannon.state), cannon.timer, cannon.x, cannon.y),
+            "shot": None if shot is None else (shot.id, shot.x, shot.y),
+            "bombs": tuple((int(s.btype), s.steps, s.burst, s.burst_x, s.burst_y,
+                            s.table_index, s.skip_next,
+                            None if s.bomb is None else (s.bomb.id, s.bomb.x, s.bomb.y,
+                                                         s.bomb.frame))
+                           for s in self.slots),
+            "saucer": (ship.timer, ship.due, ship.hit_steps, ship.hit_x, ship.hit_score,
+                       ship.from_left,
+                       None if ship.saucer is None else (ship.saucer.id, ship.saucer.x,
+                                                         ship.saucer.dx)),
+            "shields": b"".join(statehash.mask_bytes(b.mask) for b in self.bunkers),
+            "ground": statehash.mask_bytes(self.ground),
+            "explosions": tuple((e.blast.value, e.x, e.y, e.ttl) for e in self.explosions),
+        }
+
+    def group_hashes(self) -> dict[str, str]:
+        """A short digest per state group."""
+        return statehash.group_hashes(self.state_groups())
+
     def state_hash(self) -> str:
-        """Hex digest of everything that decides the game's future (see statehash)."""
-        return statehash.state_hash(self)
+        """Hex digest of everything that decides the game's future."""
+        return statehash.combine(self.group_hashes())

@@ -13,52 +13,49 @@ garbage collector paused (as timeit does). Never run by the tests.
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 
-import pygame
-
-from invaders.engine.detector import Detector, make_detector
-from invaders.engine.predicates import solid_mask
-from invaders.engine.rules import RULES, Shape
+from invaders.engine.broadphase import Pair, Scene
+from invaders.engine.detector import Detector, make_broadphase
+from invaders.engine.stats import CollisionStats, Contact
 from invaders.game.replay import Checkpoint, Replay
 from invaders.game.replay import run as run_replay
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
-from invaders.lab.frames import Frame, play_frames, snapshot
+from invaders.lab.frames import Frame, play_frames
+from invaders.lab.references import GAME_RULES, groupcollide_frames
+from invaders.lab.runner import FrameRecorder
 from invaders.lab.timing import no_gc
 
 TPS_GOAL = 5000
 DETECT_GOAL = 10.0
 
 
-class TimedDetector:
-    """Wraps a detector: times each detect call and, if asked, records the frame."""
+class DetectionTimer:
+    """Observes a detector: the seconds spent in its detect calls, summed."""
 
-    def __init__(self, inner: Detector, record: bool) -> None:
-        self.inner = inner
-        self.broadphase = inner.broadphase
-        self.record = record
-        self.frames: list[Frame] = []
+    def __init__(self) -> None:
         self.seconds = 0.0
+        self._start = 0.0
 
-    @property
-    def last_pairs(self) -> list[tuple[int, int]]:
-        return self.inner.last_pairs
+    def before(self, scene: Scene) -> None:
+        self._start = time.perf_counter()
 
-    def detect(self, scene):
-        start = time.perf_counter()
-        contacts, stats = self.inner.detect(scene)
-        self.seconds += time.perf_counter() - start
-        if self.record:
-            self.frames.append(snapshot(scene, contacts))
-        return contacts, stats
+    def after(self, scene: Scene, candidates: Sequence[Pair], contacts: Sequence[Contact],
+              stats: CollisionStats) -> None:
+        self.seconds += time.perf_counter() - self._start
 
 
 def play_game(ticks: int, seed: int, broadphase: str, record: bool,
-              recorder: list | None = None) -> tuple[float, TimedDetector]:
-    """Wall seconds for a headless autopilot game, and its timed detector. If `recorder`
-    is a list, the game's replay is appended to it."""
-    detector = TimedDetector(make_detector(broadphase), record)
-    world = World(seed=seed, detector=detector)  # type: ignore[arg-type]
+              recorder: list | None = None) -> tuple[float, DetectionTimer, list[Frame]]:
+    """Wall seconds for a headless autopilot game, its detection timer and, if `record`,
+    the frames its detector saw. If `recorder` is a list, the game's replay is appended."""
+    world = World(seed=seed, broadphase=broadphase)
+    timer = DetectionTimer()
+    world.detector.observers.append(timer)  # first: it wraps the detection the tightest
+    frames = FrameRecorder()
+    if record:
+        world.detector.observers.append(frames)
     pilot = Autopilot(seed)
     inputs = []
     with no_gc():
@@ -74,7 +71,7 @@ def play_game(ticks: int, seed: int, broadphase: str, record: bool,
             replay.append(bits)
         replay.checkpoints.append(Checkpoint.of(world))
         recorder.append(replay)
-    return seconds, detector
+    return seconds, timer, frames.frames
 
 
 def replay_seconds(replay: Replay) -> float:
@@ -86,53 +83,6 @@ def replay_seconds(replay: Replay) -> float:
     if result.mismatch is not None:
         raise AssertionError(f"the bench's own replay did not replay: {result.mismatch}")
     return seconds
-
-
-class _Sprite(pygame.sprite.Sprite):
-    def __init__(self, body_id: int, x: int, y: int, mask: pygame.mask.Mask) -> None:
-        super().__init__()
-        self.body_id = body_id
-        self.mask = mask
-        self.rect = pygame.Rect((x, y), mask.get_size())
-
-
-def sprite_groups(frame: Frame) -> list[tuple[pygame.sprite.Group, pygame.sprite.Group]]:
-    """The rules' group pairs as pygame groups, each side with the shape the rule tests."""
-    pairs = []
-    for rule in RULES:
-        sides = []
-        for kind, shape in ((rule.a, rule.a_shape), (rule.b, rule.b_shape)):
-            group = pygame.sprite.Group()
-            for body_id, x, y, _px, _py, _moved, mask in frame.bodies[kind]:
-                shape_mask = mask if shape is Shape.MASK else solid_mask(*mask.get_size())
-                group.add(_Sprite(body_id, x, y, shape_mask))
-            sides.append(group)
-        pairs.append((sides[0], sides[1]))
-    return pairs
-
-
-def groupcollide_frames(frames: list[Frame]) -> tuple[float, list[set[tuple[int, int]]]]:
-    """Seconds spent in groupcollide over all frames, and the id pairs it found per frame."""
-    prepared = [sprite_groups(f) for f in frames]
-    found: list[set[tuple[int, int]]] = []
-    seconds = 0.0
-    collide = pygame.sprite.collide_mask
-    results = []
-    with no_gc():
-        for groups in prepared:
-            start = time.perf_counter()
-            hits = [pygame.sprite.groupcollide(a, b, False, False, collide) for a, b in groups]
-            seconds += time.perf_counter() - start
-            results.append(hits)
-    for hits in results:
-        pairs = set()
-        for result in hits:
-            for sprite, others in result.items():
-                for other in others:
-                    pairs.add((min(sprite.body_id, other.body_id),
-                               max(sprite.body_id, other.body_id)))
-        found.append(pairs)
-    return seconds, found
 
 
 def compare(frames: list[Frame], baseline: list[set[tuple[int, int]]]) -> tuple[int, int, int]:
@@ -149,7 +99,7 @@ def compare(frames: list[Frame], baseline: list[set[tuple[int, int]]]) -> tuple[
 def replay_frames(frames: list[Frame], broadphase: str) -> tuple[float, bool]:
     """Seconds our detector spends on the frames played back in a tight loop, and whether
     it found exactly the contacts it found in the game."""
-    seconds, found, _ = play_frames(make_detector(broadphase), frames)
+    seconds, found, _ = play_frames(Detector(make_broadphase(broadphase), GAME_RULES), frames)
     return seconds, all(c == f.contacts for c, f in zip(found, frames, strict=True))
 
 
@@ -166,13 +116,13 @@ def bench(ticks: int = 3600, seed: int = 7, repeat: int = 3) -> int:
     for i in range(repeat):
         for name in ("grid", "brute"):
             first_grid = name == "grid" and i == 0
-            seconds, detector = play_game(ticks, seed, name, record=first_grid,
+            seconds, timer, recorded = play_game(ticks, seed, name, record=first_grid,
                                           recorder=replays if first_grid else None)
             best[name] = min(best.get(name, float("inf")), seconds)
             if name == "grid":
-                detect_best = min(detect_best, detector.seconds)
-                if detector.frames:
-                    frames = detector.frames
+                detect_best = min(detect_best, timer.seconds)
+                if recorded:
+                    frames = recorded
     tps = {name: ticks / s for name, s in best.items()}
     print("1. headless game")
     print(f"   grid   {tps['grid']:>10,.0f} ticks/s")

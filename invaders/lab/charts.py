@@ -13,7 +13,7 @@ from collections import defaultdict
 from pathlib import Path
 
 from invaders.atomic import atomic_path
-from invaders.engine.broadphase import DEFAULT_CELL
+from invaders.engine.grid import DEFAULT_CELL
 
 
 def _pyplot():

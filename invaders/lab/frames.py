@@ -1,9 +1,10 @@
 """Recorded frames: the bodies a detector saw on each tick, to play back to any method.
 
 A frame keeps each body's id, position, start-of-tick position and mask (shield masks are
-copied, since they erode). `FrameScene` plays frames back as one scene, tick after tick, with
-the dirty list a world would have given. `sampled` keeps every k-th frame with the motion of
-the k frames between folded into one step, as a detector that runs less often would see it.
+copied, since they erode). `FrameScene` plays frames back through a body store, tick after
+tick, making the changes a world would have made (so a broad phase hears of the same ones).
+`sampled` keeps every k-th frame with the motion of the k frames between folded into one
+step, as a detector that runs less often would see it.
 """
 
 from __future__ import annotations
@@ -13,8 +14,10 @@ from dataclasses import dataclass
 
 import pygame
 
-from invaders.engine.body import Body, Kind
+from invaders.engine.body import Body
 from invaders.engine.stats import Contact
+from invaders.engine.store import BodyStore
+from invaders.game.kinds import Kind
 
 BodyRow = tuple[int, int, int, int, int, int, pygame.mask.Mask]  # id, x, y, px, py, moved, mask
 
@@ -37,40 +40,36 @@ def snapshot(scene, contacts: Sequence[Contact] = ()) -> Frame:
 
 
 class FrameScene:
-    """Frames played back as one scene (the Scene protocol of the pipeline)."""
+    """Frames played back as one scene: `store` is what a detector reads."""
 
     def __init__(self) -> None:
-        self.tick = -1
-        self.dirty: list[Body] = []
-        self.by_kind: dict[Kind, list[Body]] = {kind: [] for kind in Kind}
-        self._bodies: dict[int, Body] = {}
+        self.store = BodyStore(Kind)
 
     def load(self, frame: Frame) -> None:
-        self.tick = frame.tick
-        dirty = []
+        store = self.store
+        store.tick = frame.tick
         seen = set()
+        by_id = store.by_id
         for kind, rows in frame.bodies.items():
-            listed = []
             for body_id, x, y, px, py, moved, mask in rows:
                 seen.add(body_id)
-                body = self._bodies.get(body_id)
+                body = by_id.get(body_id)
                 if body is None:
-                    body = self._bodies[body_id] = Body(body_id, kind, x, y, mask)
-                    body.shaped_tick = frame.tick
-                    dirty.append(body)
-                elif (body.x, body.y, body.moved_tick) != (x, y, moved):
-                    dirty.append(body)  # as the world reports moves (a new mask comes with one)
-                if body.mask is not mask and kind is not Kind.BUNKER:
-                    body.shaped_tick = frame.tick  # a new picture (shields only erode)
-                body.x, body.y, body.px, body.py, body.moved_tick = x, y, px, py, moved
-                body.mask = mask
-                listed.append(body)
-            self.by_kind[kind] = listed
-        for body_id in [i for i in self._bodies if i not in seen]:
-            body = self._bodies.pop(body_id)
-            body.alive = False
-            dirty.append(body)
-        self.dirty = dirty
+                    body = Body(body_id, kind, x, y, mask)
+                    if moved == frame.tick:
+                        body.px, body.py, body.moved_tick = px, py, moved
+                    store.add(body)
+                    continue
+                if body.mask is not mask:
+                    if kind is Kind.BUNKER:
+                        body.mask = mask  # a copy of the eroded shield: it only lost pixels
+                    else:
+                        store.reshape(body, mask)
+                start = (px, py) if moved == frame.tick else (x, y)
+                if (body.x, body.y) != (x, y) or body.start_of_tick(frame.tick) != start:
+                    store.move_from(body, *start, x, y)
+        for body_id in [i for i in by_id if i not in seen]:
+            store.remove(by_id[body_id])
 
 
 def sampled(frames: Sequence[Frame], k: int) -> list[Frame]:
@@ -113,7 +112,7 @@ def play_frames(detector, frames: Sequence[Frame]) -> tuple[float, list[list[Con
         for frame in frames:
             scene.load(frame)
             start = time.perf_counter()
-            contacts, stats = detector.detect(scene)
+            contacts, stats = detector.detect(scene.store)
             seconds += time.perf_counter() - start
             found.append(contacts)
             totals = [t + s for t, s in zip(totals, stats, strict=True)]

@@ -12,9 +12,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-from invaders.engine.broadphase import DEFAULT_CELL, make_broadphase
-from invaders.engine.detector import Detector
-from invaders.engine.rules import RULES, Motion, Shape
+from invaders.engine.detector import Detector, make_broadphase
+from invaders.engine.grid import DEFAULT_CELL
+from invaders.engine.rules import Motion, RuleTable, Shape
+from invaders.game.config import DEFAULT_CONFIG
+from invaders.game.rules import make_rules
 from invaders.game.tuning import cheapest_rules
 from invaders.lab.methods import QUICK_TESTS
 
@@ -46,23 +48,31 @@ DEFAULT_NARROW = ("rect", "mask", "auto", 1)
 DEFAULT = Method()
 
 
-def rules_for(method: Method, multiplier: int = 1):
-    """The rules table as the method models it."""
+def rules_for(method: Method, multiplier: int = 1) -> RuleTable:
+    """The game's rules table as the method models it (LANDING entries stay as they are:
+    where things land is their definition)."""
     if method.motion == "auto":
         rules = cheapest_rules(multiplier * method.sampling)
     else:
         motion = Motion.SWEPT if method.motion == "swept" else Motion.DISCRETE
-        rules = tuple(replace(r, motion=motion) for r in RULES)
+        rules = make_rules(DEFAULT_CONFIG).map(
+            lambda r: r if r.motion is Motion.LANDING else replace(r, motion=motion))
     if method.thorough == "none":
-        rules = tuple(replace(r, a_shape=Shape.BOX, b_shape=Shape.BOX) for r in rules)
+        rules = rules.map(lambda r: replace(r, a_shape=Shape.BOX, b_shape=Shape.BOX))
     return rules
 
 
-def detector_for(method: Method, multiplier: int = 1, cell: int | None = None) -> Detector:
-    """A Detector for the method; `cell` replaces an automatic cell size once chosen."""
+def detector_for(method: Method, multiplier: int = 1, cell: int | None = None,
+                 rules: RuleTable | None = None) -> Detector:
+    """A Detector for the method; `cell` replaces an automatic cell size once chosen, and
+    `rules` (a scene's own zones) the game's table before the method models it."""
     size = method.cell or cell or DEFAULT_CELL
     quick = None if method.quick == "rect" else QUICK_TESTS[method.quick]
-    return Detector(make_broadphase(method.broad, size), rules_for(method, multiplier), quick)
+    table = rules_for(method, multiplier)
+    if rules is not None:
+        zones = {(r.a, r.b): r.zone for r in rules}
+        table = table.map(lambda r: replace(r, zone=zones[(r.a, r.b)]))
+    return Detector(make_broadphase(method.broad, size), table, quick)
 
 
 def accuracy_matrix(quick: bool) -> list[Method]:

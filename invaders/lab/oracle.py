@@ -1,30 +1,35 @@
-"""The oracle: the true contacts of a tick, by brute force.
+"""The oracle: the contacts that truly happen in a tick, by brute force.
 
 Every pair of bodies whose kinds can interact is tested with pixel masks at every pixel of
 the pair's relative motion during the tick (nothing moves more than one pixel between two
-tests), except the entries whose outcome is defined by where things land (an alien's draw
-footprint), which are tested where they land. It shares no code path with the pipeline's
-broad phases or its choice of tests, only the pixel primitives, so it can score them.
+tests), except LANDING entries, which are tested where things land. That gives each pair's
+time of first touch, in the time base of the engine's contacts. The tick is then walked in
+time order, and a body spent by an earlier contact (as its entry says) stops: it takes part
+in no later contact. So the oracle scores first contacts, not every touch. Zones are not
+used: they may only ever drop pairs that cannot touch, and scoring checks that.
+
+It shares no code with the detector, its broad phases or its choice of tests, only the
+pixel primitives, so it can score them.
 """
 
 from __future__ import annotations
 
 from bisect import bisect_left
+from fractions import Fraction
 from typing import NamedTuple
 
 from invaders.engine.body import Body
 from invaders.engine.broadphase import Scene
 from invaders.engine.predicates import solid_mask, substeps, swept_box_overlap
-from invaders.engine.rules import POSITIONAL, RULES, PairRule, Shape
+from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
 
 
 class TrueContact(NamedTuple):
-    """A pair that touched during the tick, and how far into the tick it first touched."""
+    """A pair that touched during the tick, and when it first touched (0 to 1)."""
 
+    time: Fraction
     a_id: int
     b_id: int
-    step: int  # first substep that touched
-    steps: int  # substeps in the tick for this pair (0: tested where they landed)
 
 
 def _mask(body: Body, shape: Shape):
@@ -35,13 +40,13 @@ def _start(body: Body, tick: int) -> tuple[int, int]:
     return (body.px, body.py) if body.moved_tick == tick else (body.x, body.y)
 
 
-def pair_contact(a: Body, b: Body, rule: PairRule, tick: int) -> TrueContact | None:
-    """The first pixel-exact touch of a and b during the tick (a's id below b's)."""
+def first_touch(a: Body, b: Body, rule: PairRule, tick: int) -> Fraction | None:
+    """When a and b first touch, pixel-exact, during the tick (None: they do not)."""
     a_mask = _mask(a, rule.shape_of(a.kind))
     b_mask = _mask(b, rule.shape_of(b.kind))
-    if frozenset({a.kind, b.kind}) in POSITIONAL:
+    if rule.motion is Motion.LANDING:
         hit = a_mask.overlap(b_mask, (b.x - a.x, b.y - a.y))
-        return None if hit is None else TrueContact(a.id, b.id, 0, 0)
+        return None if hit is None else Fraction(1)
     ax0, ay0 = _start(a, tick)
     bx0, by0 = _start(b, tick)
     ox, oy = bx0 - ax0, by0 - ay0
@@ -52,12 +57,12 @@ def pair_contact(a: Body, b: Body, rule: PairRule, tick: int) -> TrueContact | N
         return None
     path = substeps(dx, dy)
     steps = len(path) - 1
-    # The tick's first instant was the last of the previous tick, unless a body was born in it.
+    # The tick's first instant was the last of the previous tick, unless a body is new in it.
     first = 0 if steps == 0 or a.shaped_tick == tick or b.shaped_tick == tick else 1
     for i in range(first, steps + 1):
         sx, sy = path[i]
         if a_mask.overlap(b_mask, (ox + sx, oy + sy)) is not None:
-            return TrueContact(a.id, b.id, i, steps)
+            return Fraction(i, steps) if steps else Fraction(0)
     return None
 
 
@@ -67,18 +72,19 @@ def _columns(body: Body, tick: int) -> tuple[int, int]:
     return min(x0, body.x), max(x0, body.x) + body.w
 
 
-def true_contacts(scene: Scene, rules: tuple[PairRule, ...] = RULES) -> list[TrueContact]:
-    """All true contacts of the scene's tick, sorted by (low id, high id).
+def all_touches(scene: Scene, rules: RuleTable) -> list[tuple[Fraction, int, int, PairRule,
+                                                             int]]:
+    """Every pair that touches in the tick: (time, low id, high id, entry, low's kind), in
+    time order.
 
-    Every pair of kinds a rule names is considered; a pair whose bodies never share a screen
-    column during the tick cannot touch, and is passed over by a bisection on left edges (so
-    storms of thousands stay tractable) rather than tested.
+    A pair whose bodies never share a screen column during the tick cannot touch, and is
+    passed over by a bisection on left edges (so storms of thousands stay tractable).
     """
     by_kind = scene.by_kind
     tick = scene.tick
     found = []
     for rule in rules:
-        side_a, side_b = by_kind[rule.a], by_kind[rule.b]
+        side_a, side_b = by_kind.get(rule.a, ()), by_kind.get(rule.b, ())
         if not side_a or not side_b:
             continue
         spans = sorted((*_columns(b, tick), b.id, b) for b in side_b)
@@ -91,9 +97,25 @@ def true_contacts(scene: Scene, rules: tuple[PairRule, ...] = RULES) -> list[Tru
                 if b_right <= left:
                     continue
                 low, high = (a, b) if a.id < b.id else (b, a)
-                contact = pair_contact(low, high, rule, tick)
-                if contact is not None:
-                    found.append(contact)
-    found.sort()
+                time = first_touch(low, high, rule, tick)
+                if time is not None:
+                    found.append((time, low.id, high.id, rule, low.kind))
+    found.sort(key=lambda touch: touch[:3])
     return found
 
+
+def true_contacts(scene: Scene, rules: RuleTable) -> list[TrueContact]:
+    """The contacts that happen in the scene's tick, in (time, low id, high id) order: the
+    touches walked in time order, each spent body stopping at its first contact."""
+    stopped: set[int] = set()
+    out = []
+    for time, low, high, rule, low_kind in all_touches(scene, rules):
+        if low in stopped or high in stopped:
+            continue
+        out.append(TrueContact(time, low, high))
+        in_order = low_kind == rule.a  # in a same-kind entry the low id is side a
+        if rule.spends_a if in_order else rule.spends_b:
+            stopped.add(low)
+        if rule.spends_b if in_order else rule.spends_a:
+            stopped.add(high)
+    return out

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from invaders.atomic import write_atomic
-from invaders.engine.broadphase import DEFAULT_CELL
+from invaders.engine.grid import DEFAULT_CELL
 from invaders.lab.matrix import MULTIPLIERS, Method, accuracy_matrix, broad_matrix
 from invaders.lab.runner import SceneSpec, run_scene
 

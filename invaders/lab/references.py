@@ -1,4 +1,4 @@
-"""Outside references for the scaling chart, timed on the same frames as our pipeline.
+"""Outside references, timed on the same frames as our pipeline.
 
 `pygame.sprite.groupcollide` with `collide_mask` over the rules' group pairs (mask-exact,
 as ours), and pymunk's spatial hash answering box queries only (a lower bar: no pixels).
@@ -8,18 +8,70 @@ from __future__ import annotations
 
 import time
 
-from invaders.engine.rules import RULES
+import pygame
+
+from invaders.engine.predicates import solid_mask
+from invaders.engine.rules import Shape
+from invaders.game.config import DEFAULT_CONFIG
+from invaders.game.rules import make_rules
 from invaders.lab.frames import Frame
 from invaders.lab.timing import no_gc
+
+GAME_RULES = make_rules(DEFAULT_CONFIG)
+
+
+class _Sprite(pygame.sprite.Sprite):
+    def __init__(self, body_id: int, x: int, y: int, mask: pygame.mask.Mask) -> None:
+        super().__init__()
+        self.body_id = body_id
+        self.mask = mask
+        self.rect = pygame.Rect((x, y), mask.get_size())
+
+
+def sprite_groups(frame: Frame) -> list[tuple[pygame.sprite.Group, pygame.sprite.Group]]:
+    """The rules' group pairs as pygame groups, each side with the shape the rule tests."""
+    pairs = []
+    for rule in GAME_RULES:
+        sides = []
+        for kind, shape in ((rule.a, rule.a_shape), (rule.b, rule.b_shape)):
+            group = pygame.sprite.Group()
+            for body_id, x, y, _px, _py, _moved, mask in frame.bodies[kind]:
+                shape_mask = mask if shape is Shape.MASK else solid_mask(*mask.get_size())
+                group.add(_Sprite(body_id, x, y, shape_mask))
+            sides.append(group)
+        pairs.append((sides[0], sides[1]))
+    return pairs
+
+
+def groupcollide_frames(frames: list[Frame]) -> tuple[float, list[set[tuple[int, int]]]]:
+    """Seconds spent in groupcollide over all frames, and the id pairs it found per frame."""
+    prepared = [sprite_groups(f) for f in frames]
+    found: list[set[tuple[int, int]]] = []
+    seconds = 0.0
+    collide = pygame.sprite.collide_mask
+    results = []
+    with no_gc():
+        for groups in prepared:
+            start = time.perf_counter()
+            hits = [pygame.sprite.groupcollide(a, b, False, False, collide) for a, b in groups]
+            seconds += time.perf_counter() - start
+            results.append(hits)
+    for hits in results:
+        pairs = set()
+        for result in hits:
+            for sprite, others in result.items():
+                for other in others:
+                    pairs.add((min(sprite.body_id, other.body_id),
+                               max(sprite.body_id, other.body_id)))
+        found.append(pairs)
+    return seconds, found
+
+
 
 
 def groupcollide_us(frames: list[Frame], budget: float = 5.0) -> float:
     """Microseconds per frame for groupcollide + collide_mask (as many frames as the budget
     allows, at least one)."""
-    import pygame
-
-    from invaders.lab.bench import sprite_groups
-
     seconds, count = 0.0, 0
     with no_gc():
         for frame in frames:
@@ -70,7 +122,7 @@ def pymunk_us(frames: list[Frame]) -> float | None:
             for body_id in [i for i in shapes if i not in seen]:
                 body, shape, _ = shapes.pop(body_id)
                 space.remove(body, shape)
-            for rule in RULES:
+            for rule in GAME_RULES:
                 wanted = pymunk.ShapeFilter(mask=1 << rule.b)
                 for _id, x, y, _px, _py, _moved, mask in frame.bodies[rule.a]:
                     w, h = mask.get_size()

@@ -7,17 +7,23 @@ taken at the full rate, so a method that looks less often is judged on what it m
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from invaders.engine.detector import make_detector
+from invaders.engine.broadphase import Pair, Scene
+from invaders.engine.response import first_contacts
+from invaders.engine.rules import RuleTable
+from invaders.engine.stats import CollisionStats, Contact
+from invaders.game.config import DEFAULT_CONFIG
 from invaders.game.replay import load
+from invaders.game.rules import make_rules
 from invaders.game.world import World
 from invaders.lab.frames import Frame, FrameScene, play_frames, sampled, snapshot
 from invaders.lab.matrix import Method, detector_for
 from invaders.lab.oracle import true_contacts
 from invaders.lab.score import Scorer
-from invaders.lab.storm import Storm
+from invaders.lab.storm import Storm, storm_rules
 
 AUTO_CHOICES = (Method(broad="brute"), Method(broad="sweep"), Method(cell=8), Method(cell=16),
                 Method(cell=32), Method(cell=64))
@@ -44,57 +50,61 @@ class SceneSpec:
                    seed=seed)
 
 
-class _Recorder:
-    """A detector that snapshots every frame it is shown (the default pipeline decides)."""
+class FrameRecorder:
+    """Observes a detector: snapshots every frame it is shown, with the contacts found."""
 
     def __init__(self) -> None:
-        self.inner = make_detector("grid")
-        self.broadphase = self.inner.broadphase
         self.frames: list[Frame] = []
 
-    @property
-    def last_pairs(self):
-        return self.inner.last_pairs
+    def before(self, scene: Scene) -> None:
+        pass
 
-    def detect(self, scene):
-        contacts, stats = self.inner.detect(scene)
+    def after(self, scene: Scene, candidates: Sequence[Pair], contacts: Sequence[Contact],
+              stats: CollisionStats) -> None:
         self.frames.append(snapshot(scene, contacts))
-        return contacts, stats
+
+
+def scene_rules(spec: SceneSpec) -> RuleTable:
+    """The game's rules for the scene: a replay's config, or a storm's lane in every tile."""
+    if spec.replay is not None:
+        return make_rules(load(spec.replay).config)
+    return storm_rules(make_rules(DEFAULT_CONFIG), spec.bodies)
 
 
 def record(spec: SceneSpec) -> list[Frame]:
-    """The scene's frames, from tick 0."""
+    """The scene's frames, from tick 0 (a replay as the default detector saw it)."""
     if spec.replay is not None:
         replay = load(spec.replay)
-        recorder = _Recorder()
-        world = World(replay.seed, replay.config, detector=recorder)  # type: ignore[arg-type]
+        world = World(replay.seed, replay.config)
+        recorder = FrameRecorder()
+        world.detector.observers.append(recorder)
         for n, bits in enumerate(replay.actions()):
             if n >= spec.ticks:
                 break
             world.step(bits)
         return recorder.frames
     storm = Storm(spec.bodies, spec.seed, spec.multiplier)
-    frames = [snapshot(storm)]
+    frames = [snapshot(storm.store)]
     for _ in range(spec.ticks - 1):
         storm.advance()
-        frames.append(snapshot(storm))
+        frames.append(snapshot(storm.store))
     return frames
 
 
-def truth(frames: list[Frame]) -> list[set[tuple[int, int]]]:
-    """The oracle's contact pairs of every frame."""
+def truth(frames: list[Frame], rules: RuleTable) -> list[set[tuple[int, int]]]:
+    """The oracle's first contacts of every frame, as pairs."""
     scene = FrameScene()
     out = []
     for frame in frames:
         scene.load(frame)
-        out.append({(c.a_id, c.b_id) for c in true_contacts(scene)})
+        out.append({(c.a_id, c.b_id) for c in true_contacts(scene.store, rules)})
     return out
 
 
 BRUTE_TRIAL_LIMIT = 400  # bodies: brute force is not even tried on bigger scenes
 
 
-def choose_broadphase(frames: list[Frame], multiplier: int) -> Method:
+def choose_broadphase(frames: list[Frame], multiplier: int, rules: RuleTable) -> Method:
     """The fastest broad phase on the scene's first frames (all give the same contacts):
     brute force where the scene is too small for anything else to pay."""
     bodies = sum(len(v) for v in frames[0].bodies.values())
@@ -103,30 +113,34 @@ def choose_broadphase(frames: list[Frame], multiplier: int) -> Method:
     for method in AUTO_CHOICES:
         if method.broad == "brute" and bodies > BRUTE_TRIAL_LIMIT:
             continue
-        seconds = _play(method, frames[:probe], multiplier)[0]
+        seconds = _play(method, frames[:probe], multiplier, rules)[0]
         if best is None or seconds < best[0]:
             best = (seconds, method)
     assert best is not None
     return best[1]
 
 
-def _play(method: Method, frames: list[Frame], multiplier: int, cell: int | None = None):
-    seconds, found, totals = play_frames(detector_for(method, multiplier, cell), frames)
-    return seconds, [{(c.a_id, c.b_id) for c in contacts} for contacts in found], totals
+def _play(method: Method, frames: list[Frame], multiplier: int, rules: RuleTable):
+    """Seconds, the contacts that happen (as pairs) per frame, and the counters summed."""
+    seconds, found, totals = play_frames(detector_for(method, multiplier, rules=rules), frames)
+    return seconds, [{(c.a_id, c.b_id) for c in first_contacts(contacts)}
+                     for contacts in found], totals
 
 
 def run_cell(spec: SceneSpec, method: Method, frames: list[Frame],
-             truths: list[set[tuple[int, int]]], repeat: int = 1) -> dict:
+             truths: list[set[tuple[int, int]]], repeat: int = 1,
+             rules: RuleTable | None = None) -> dict:
     """Time (best of `repeat` plays) and score one method on one scene: a CSV row."""
+    rules = rules if rules is not None else scene_rules(spec)
     chosen = method
     if method.broad == "grid" and method.cell == 0:
-        chosen = choose_broadphase(frames, spec.multiplier)
+        chosen = choose_broadphase(frames, spec.multiplier, rules)
     k = method.sampling
     play = sampled(frames, k)
     concrete = Method(chosen.broad, chosen.cell, method.quick, method.thorough, method.motion, k)
-    seconds, reported, totals = _play(concrete, play, spec.multiplier)
+    seconds, reported, totals = _play(concrete, play, spec.multiplier, rules)
     for _ in range(repeat - 1):
-        seconds = min(seconds, _play(concrete, play, spec.multiplier)[0])
+        seconds = min(seconds, _play(concrete, play, spec.multiplier, rules)[0])
     scorer = Scorer()
     for n, pairs in enumerate(reported):
         last = n * k + k - 1
@@ -158,5 +172,6 @@ def run_cell(spec: SceneSpec, method: Method, frames: list[Frame],
 def run_scene(spec: SceneSpec, methods: list[Method], repeat: int = 1) -> list[dict]:
     """Record a scene once and run every method on it (one unit of parallel work)."""
     frames = record(spec)
-    truths = truth(frames)
-    return [run_cell(spec, method, frames, truths, repeat) for method in methods]
+    rules = scene_rules(spec)
+    truths = truth(frames, rules)
+    return [run_cell(spec, method, frames, truths, repeat, rules) for method in methods]

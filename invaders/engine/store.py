@@ -1,0 +1,129 @@
+"""The body store: every change to a body goes through it, so the broad phase hears of it.
+
+It keeps the live bodies of each kind in id order (the order contacts depend on) and by id,
+and hands every body added, moved, reshaped or removed to the move buffer of the broad phase
+attached to it (the broad phase owns the buffer and clears it when it answers, as Box2D's
+`b2BufferMove`). Nothing downstream guesses what changed.
+"""
+
+from __future__ import annotations
+
+from bisect import bisect_left, insort
+from collections.abc import Iterable
+from operator import attrgetter
+from typing import Protocol
+
+import pygame
+
+from invaders.engine.body import Body
+
+_ID = attrgetter("id")
+
+
+class Listener(Protocol):
+    """A broad phase as the store sees it: a buffer to fill (None: it keeps no state)."""
+
+    move_buffer: list[Body] | None
+
+
+class BodyStore:
+    """Live bodies by kind and by id, the current tick, and the id counter."""
+
+    def __init__(self, kinds: Iterable[int]) -> None:
+        self.tick = 0
+        self.by_kind: dict[int, list[Body]] = {kind: [] for kind in kinds}
+        self.by_id: dict[int, Body] = {}
+        self.next_id = 1
+        self.listener: Listener | None = None
+        self._buffer: list[Body] | None = None
+
+    def attach(self, listener: Listener) -> None:
+        """Send every later change to this broad phase (which rebuilds from the store)."""
+        self.listener = listener
+        self._buffer = listener.move_buffer
+
+    def new_id(self) -> int:
+        body_id = self.next_id
+        self.next_id += 1
+        return body_id
+
+    def add(self, body: Body) -> None:
+        """A body appears (or comes back) this tick."""
+        body.alive = True
+        body.shaped_tick = self.tick
+        bodies = self.by_kind[body.kind]
+        if not bodies or bodies[-1].id < body.id:
+            bodies.append(body)
+        else:
+            insort(bodies, body, key=_ID)
+        self.by_id[body.id] = body
+        if self._buffer is not None:
+            self._buffer.append(body)
+
+    def move(self, body: Body, x: int, y: int) -> None:
+        """Move a body; the first move of a tick remembers where it started."""
+        if body.moved_tick != self.tick:
+            body.px = body.x
+            body.py = body.y
+            body.moved_tick = self.tick
+            if self._buffer is not None:
+                self._buffer.append(body)
+        body.x = x
+        body.y = y
+
+    def move_from(self, body: Body, px: int, py: int, x: int, y: int) -> None:
+        """This tick the body went from (px, py) to (x, y) (for scenes played back)."""
+        if (px, py) == (x, y):
+            body.moved_tick = -1
+        else:
+            body.px, body.py, body.moved_tick = px, py, self.tick
+        body.x = x
+        body.y = y
+        if self._buffer is not None:
+            self._buffer.append(body)
+
+    def reshape(self, body: Body, mask: pygame.mask.Mask) -> None:
+        """A new picture. The tick's first instant is new for the body only if the picture
+        gains a pixel: one that only loses pixels cannot touch anything at that instant that
+        the old one did not touch at the previous tick's end."""
+        old = body.mask
+        if mask is old:
+            return
+        size = mask.get_size()
+        if gains_pixels(old, mask):
+            body.shaped_tick = self.tick
+        body.mask = mask
+        if size != (body.w, body.h):
+            body.w, body.h = size
+            if self._buffer is not None:
+                self._buffer.append(body)
+
+    def remove(self, body: Body) -> None:
+        if not body.alive:
+            return
+        body.alive = False
+        bodies = self.by_kind[body.kind]
+        del bodies[bisect_left(bodies, body.id, key=_ID)]
+        del self.by_id[body.id]
+        if self._buffer is not None:
+            self._buffer.append(body)
+
+    def count(self) -> int:
+        return sum(len(bodies) for bodies in self.by_kind.values())
+
+
+_gains: dict[tuple[int, int], tuple[pygame.mask.Mask, pygame.mask.Mask, bool]] = {}
+
+
+def gains_pixels(old: pygame.mask.Mask, new: pygame.mask.Mask) -> bool:
+    """Whether `new`, placed where `old` was, lights a pixel `old` does not. Cached per
+    pair of mask objects (pictures are shared), holding both so ids are not reused."""
+    key = (id(old), id(new))
+    hit = _gains.get(key)
+    if hit is not None and hit[0] is old and hit[1] is new:
+        return hit[2]
+    gained = new.overlap_area(old, (0, 0)) < new.count()
+    if len(_gains) > 4096:
+        _gains.clear()
+    _gains[key] = (old, new, gained)
+    return gained
