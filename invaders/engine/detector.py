@@ -88,9 +88,12 @@ class Detector:
 
     def detect(self, store: BodyStore) -> tuple[list[Contact], CollisionStats]:
         """This tick's contacts in (time, low id, high id) order, and the counters."""
-        if store.listener is not self.broadphase:
-            store.attach(self.broadphase)
-            self.broadphase.rebuild(store, self.kinds)
+        broadphase = self.broadphase
+        if broadphase.move_buffer is not None and store.listener is not broadphase:
+            # A broad phase that keeps state hears of every later change from the store;
+            # it starts from the store as it is. (Stateless ones need not listen.)
+            store.attach(broadphase)
+            broadphase.rebuild(store, self.kinds)
         observers = self.observers
         for observer in reversed(observers):
             observer.before(store)
@@ -119,7 +122,7 @@ class Detector:
                     continue
             allowed += len(side_a) * len(side_b)
             groups.append((rule, side_a, side_b))
-        pairs = self.broadphase.pairs(store, groups, self.kinds) if groups else []
+        pairs = broadphase.pairs(store, groups, self.kinds) if groups else []
 
         quick = self.quick
         contacts: list[Contact] = []

@@ -38,7 +38,8 @@ class BodyStore:
         self._buffer: list[Body] | None = None
 
     def attach(self, listener: Listener) -> None:
-        """Send every later change to this broad phase (which rebuilds from the store)."""
+        """Send every later change to this broad phase (which rebuilds from the store). A
+        store feeds one broad phase that keeps state; attaching another replaces it."""
         self.listener = listener
         self._buffer = listener.move_buffer
 

@@ -1,0 +1,171 @@
+"""The config is the whole truth: change any geometry field and what it places moves, and
+nothing outside the config holds a copy. Bad values are refused naming field and range."""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+
+import pytest
+
+from invaders.game import saucer
+from invaders.game.actions import Action
+from invaders.game.config import ConfigError, GameConfig, Geometry, Rules, Speeds
+from invaders.game.entities import Bomb, BombType, CannonState
+from invaders.game.events import Event
+from invaders.game.kinds import Kind
+from invaders.game.world import World
+from tests.helpers import step_until
+
+G = Geometry()
+
+
+def world_with(**geometry) -> World:
+    g = dataclasses.replace(G, **geometry)
+    rules = Rules()
+    rules = dataclasses.replace(  # the column tables must stay inside a narrower rack
+        rules, plunger_columns=tuple(min(c, g.cols) for c in rules.plunger_columns),
+        squiggly_columns=tuple(min(c, g.cols) for c in rules.squiggly_columns))
+    return World(seed=1, config=GameConfig(geometry=g, rules=rules))
+
+
+def active(world: World) -> World:
+    """The world once its cannon is active, with alien fire off (nothing falls on it)."""
+    step_until(world, lambda r: world.cannon.state is CannonState.ACTIVE)
+    world.alien_fire_timer = -1
+    return world
+
+
+def _held_right(world: World) -> int:
+    active(world)
+    for _ in range(250):
+        world.step(int(Action.RIGHT))
+    return world.cannon.x
+
+
+def _aliens(world: World):
+    return world.rack.aliens
+
+
+def _lane(world: World):
+    return world.rules.rule_for(Kind.SHOT, Kind.SAUCER).zone[0]
+
+
+def _launched(world: World, from_left: bool):
+    world.saucer.from_left = from_left
+    return saucer.launch(world.saucer, world.store, world.config)
+
+
+def _flown_out(world: World, from_left: bool) -> int:
+    ship = _launched(world, from_left)
+    last = ship.x
+    while world.saucer.saucer is not None:
+        last = ship.x
+        saucer.fly(world.saucer, world.store, world.config)
+    return last
+
+
+def _wraps_at(world: World, moving_right: bool) -> int:
+    """The reference x at which the rack first drops, walking it one step at a time."""
+    rack = world.rack
+    rack.dx = 2 if moving_right else -2
+    top = rack.ref_top
+    for _ in range(200):
+        x = rack.ref_x
+        rack._wrap()
+        if rack.ref_top != top:
+            return x
+    raise AssertionError("never dropped")
+
+
+def _dropped_bomb_burst(world: World) -> tuple[int, int]:
+    """A bomb dropped straight down an empty column: where it burst on the ground."""
+    slot = world.slots[BombType.PLUNGER]
+    bomb = Bomb(world.store.new_id(), BombType.PLUNGER, 4, 100)
+    world.store.add(bomb)
+    slot.bomb = bomb
+    world.alien_fire_timer = -1
+    step_until(world, lambda r: slot.bomb is None, limit=400)
+    return slot.burst_y, bomb.y
+
+
+def _shot_after_firing(world: World):
+    world = active(world)
+    world.step(int(Action.FIRE))
+    return world.shot
+
+
+def _shot_burst_top(world: World) -> int:
+    """Fired from the cannon's first place, left of every shield and lit alien pixel: the
+    top row at which it bursts."""
+    x = _shot_after_firing(world).x
+    step_until(world, lambda r: Event.SHOT_BURST in r.events, limit=100)
+    burst = [e for e in world.explosions if e.x == x - 3][-1]
+    return burst.y + 2
+
+
+CHECKS: dict[str, tuple[int, Callable[[World], object], Callable[[int], object]]] = {
+    # field: (a new value, what to measure in a world, what it should measure for that value)
+    "saucer_top": (56, lambda w: (_lane(w)[1], _launched(w, True).y), lambda v: (v, v)),
+    "saucer_lane_h": (12, lambda w: _lane(w)[3], lambda v: v),
+    "rack_left": (30, lambda w: _aliens(w)[0].x, lambda v: v),
+    "cell": (14, lambda w: (_aliens(w)[1].x - _aliens(w)[0].x,
+                            _aliens(w)[0].y - _aliens(w)[11 if w.config.geometry.cols == 11
+                                                          else 1].y), lambda v: (v, v)),
+    "rows": (3, lambda w: (len(_aliens(w)), w.rack.live), lambda v: (v * 11, v * 11)),
+    "cols": (8, lambda w: (len(_aliens(w)), _aliens(w)[8].row), lambda v: (5 * v, 1)),
+    "edge_right": (150, lambda w: _wraps_at(w, True), lambda v: _wraps_at(world_with(
+        edge_right=v), True)),
+    "edge_left": (40, lambda w: _wraps_at(w, False), lambda v: _wraps_at(world_with(
+        edge_left=v), False)),
+    "bunker_xs": ((10, 100), lambda w: [b.x for b in w.bunkers], list),
+    "bunker_top": (180, lambda w: {b.y for b in w.bunkers}, lambda v: {v}),
+    "cannon_top": (220, lambda w: active(w).cannon.y, lambda v: v),
+    "cannon_min_x": (40, lambda w: active(w).cannon.x, lambda v: v),
+    "cannon_max_x": (100, _held_right, lambda v: v),
+    "ground_row": (235, lambda w: _dropped_bomb_burst(w)[0], lambda v: v - 7),
+    "shot_spawn_top": (200, lambda w: _shot_after_firing(w).y, lambda v: v),
+    "shot_top_limit": (60, _shot_burst_top, lambda v: range(v - 3, v + 1)),
+    "invasion_top": (144, lambda w: step_until(
+        w, lambda r: Event.INVASION in r.events or w.tick > 2000, limit=3000).tick,
+        lambda v: range(128, 2000)),  # the default invades far later
+    "bomb_ground_top": (200, lambda w: _dropped_bomb_burst(w)[1], lambda v: range(v, v + 5)),
+    "saucer_start_left": (20, lambda w: _launched(w, True).x, lambda v: v),
+    "saucer_start_right": (150, lambda w: _launched(w, False).x, lambda v: v),
+    "saucer_exit_left": (9, lambda w: _flown_out(w, False), lambda v: range(v, v + 2)),
+    "saucer_exit_right": (200, lambda w: _flown_out(w, True), lambda v: range(v - 2, v)),
+}
+
+
+def test_every_geometry_field_has_a_check():
+    assert set(CHECKS) == {f.name for f in dataclasses.fields(Geometry)}
+
+
+@pytest.mark.parametrize("name", sorted(CHECKS))
+def test_changing_a_geometry_field_moves_what_it_places(name):
+    value, measure, expected = CHECKS[name]
+    default = getattr(G, name)
+    changed = measure(world_with(**{name: value}))
+    want = expected(value)
+    if isinstance(want, range):
+        assert changed in want, (name, changed)
+    else:
+        assert changed == want, (name, changed)
+    before = measure(World(seed=1))
+    assert before != changed, f"{name}: the default {default} gives the same {before}"
+
+
+@pytest.mark.parametrize("section, field, value, message", [
+    (Rules, "plunger_columns", (1, 12), "config.rules.plunger_columns = 12 is out of range"),
+    (Geometry, "rows", 6, "config.geometry.rows = 6 is out of range 1..5"),
+    (Speeds, "rack_drop", 10**9, "config.speeds.rack_drop = 1000000000 is out of range"),
+    (Geometry, "cannon_min_x", 190, "config.geometry.cannon_min_x = 190 must not exceed"),
+])
+def test_a_value_the_game_cannot_honour_is_refused_naming_it(section, field, value, message):
+    with pytest.raises(ConfigError, match=message.replace(".", r"\.")):
+        section(**{field: value})
+
+
+def test_sections_must_agree():
+    with pytest.raises(ConfigError, match="names column 11; the rack has 8"):
+        GameConfig(geometry=dataclasses.replace(G, cols=8))

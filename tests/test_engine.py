@@ -1,0 +1,156 @@
+"""The engine on its own: zones judged on the tick's motion, reshapes that are new only when
+they could be, and a grid fed by the store's move buffer that always agrees with brute force."""
+
+from __future__ import annotations
+
+import random
+
+import pygame
+from hypothesis import settings
+from hypothesis import strategies as st
+from hypothesis.stateful import RuleBasedStateMachine, invariant, precondition, rule
+
+from invaders.engine.body import Body
+from invaders.engine.broadphase import Brute
+from invaders.engine.detector import Detector
+from invaders.engine.grid import Grid
+from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
+from invaders.engine.store import BodyStore, gains_pixels
+from invaders.game import art
+from invaders.game.kinds import Kind
+from tests.helpers import GAME_RULES, Scene, mask
+
+
+def _moved(body: Body, tick: int, dx: int, dy: int) -> Body:
+    body.px, body.py, body.moved_tick = body.x, body.y, tick
+    body.x += dx
+    body.y += dy
+    return body
+
+
+def test_a_fast_shot_crossing_the_saucer_lane_within_one_tick_still_meets_the_saucer():
+    lane = GAME_RULES.rule_for(Kind.SHOT, Kind.SAUCER).zone
+    assert lane == ((0, 40, 224, 8),)
+    saucer = Body(1, Kind.SAUCER, 100, 40, art.mask_of(art.SAUCER))
+    # Rising 11 px from y 47 to 36: at the end its box (rows 36-39) is above the lane.
+    shot = _moved(Body(2, Kind.SHOT, 110, 47, art.mask_of(art.SHOT)), 3, 0, -11)
+    contacts, stats = Detector(Grid(), GAME_RULES).detect(Scene([saucer, shot], tick=3))
+    assert stats.allowed_pairs == 1
+    assert [(c.a_id, c.b_id) for c in contacts] == [(1, 2)]
+
+
+def test_a_zone_drops_a_pair_whose_motion_never_enters_it():
+    saucer = Body(1, Kind.SAUCER, 100, 40, art.mask_of(art.SAUCER))
+    shot = _moved(Body(2, Kind.SHOT, 110, 80, art.mask_of(art.SHOT)), 3, 0, -16)  # rows 64-83
+    contacts, stats = Detector(Brute(), GAME_RULES).detect(Scene([saucer, shot], tick=3))
+    assert stats.allowed_pairs == 0 and contacts == []
+
+
+BAR = mask("#", "#")
+BAR_LOST = mask("#", ".")  # loses a pixel: nothing new to touch
+BAR_MOVED = mask(".", "#", "#")  # gains one below
+
+
+def test_a_picture_gains_pixels_only_if_it_lights_one_the_old_did_not():
+    assert not gains_pixels(BAR, BAR_LOST)
+    assert gains_pixels(BAR_LOST, BAR)
+    assert gains_pixels(BAR, BAR_MOVED)
+    assert not gains_pixels(BAR, mask("#", "#"))
+
+
+def _touching_then_leaving(new_mask: pygame.mask.Mask) -> list:
+    """A wall, and a bar touching it at the end of one tick; in the next the bar takes a new
+    picture and moves 3 px away: it touches the wall only at that tick's first instant."""
+    rules = RuleTable((PairRule(1, 2, Shape.MASK, Shape.MASK, Motion.SWEPT),))
+    store = BodyStore((1, 2))
+    wall = Body(1, 1, 0, 0, mask("###", "###", "###"))
+    bar = Body(2, 2, 2, 0, BAR)
+    store.add(wall)
+    store.add(bar)
+    detector = Detector(Brute(), rules)
+    first, _ = detector.detect(store)  # both new: they touch at the first instant
+    store.tick += 1
+    store.reshape(bar, new_mask)
+    store.move(bar, 5, 0)
+    again, _ = detector.detect(store)
+    return [[c.time for c in first], [c.time for c in again]]
+
+
+def test_a_reshape_that_only_loses_pixels_reports_no_new_contact():
+    assert _touching_then_leaving(BAR_LOST) == [[0], []]
+
+
+def test_a_reshape_that_gains_pixels_is_a_new_configuration():
+    assert _touching_then_leaving(BAR_MOVED) == [[0], [0]]
+
+
+SHAPES = [art.mask_of(art.SHOT), art.mask_of(art.SAUCER), art.mask_of(art.CANNON),
+          pygame.mask.Mask((40, 3), fill=True), pygame.mask.Mask((1, 1), fill=True),
+          art.mask_of(art.BOMB_SQUIGGLY[0])]
+KINDS = (Kind.SHOT, Kind.BOMB, Kind.ALIEN, Kind.BUNKER, Kind.SAUCER, Kind.CANNON)
+SWEPT_RULES = GAME_RULES.map(lambda r: r.__class__(r.a, r.b, r.a_shape, r.b_shape,
+                                                   Motion.SWEPT if r.motion is Motion.DISCRETE
+                                                   else r.motion, r.zone, r.spends_a,
+                                                   r.spends_b, r.response, r.reason))
+
+
+class GridAgainstBrute(RuleBasedStateMachine):
+    """Random adds, moves, reshapes (resizes) and removes, several a tick, through the store:
+    after every tick the grid, fed only by the move buffer, finds what brute force finds."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.store = BodyStore(Kind)
+        self.grid = Detector(Grid(random.Random(0).choice((4, 16, 32))), SWEPT_RULES)
+        self.brute = Detector(Brute(), SWEPT_RULES)
+
+    @rule(kind=st.sampled_from(KINDS), shape=st.integers(0, len(SHAPES) - 1),
+          x=st.integers(-40, 260), y=st.integers(-40, 290))
+    def add(self, kind, shape, x, y):
+        body = Body(self.store.new_id(), kind, x, y, SHAPES[shape])
+        self.store.add(body)
+
+    def _bodies(self) -> list[Body]:
+        return [b for bodies in self.store.by_kind.values() for b in bodies]
+
+    @precondition(lambda self: self.store.count() > 0)
+    @rule(pick=st.integers(0, 10**6), dx=st.integers(-40, 40), dy=st.integers(-40, 40))
+    def move(self, pick, dx, dy):
+        bodies = self._bodies()
+        body = bodies[pick % len(bodies)]
+        self.store.move(body, body.x + dx, body.y + dy)
+
+    @precondition(lambda self: self.store.count() > 0)
+    @rule(pick=st.integers(0, 10**6), shape=st.integers(0, len(SHAPES) - 1))
+    def reshape(self, pick, shape):
+        bodies = self._bodies()
+        self.store.reshape(bodies[pick % len(bodies)], SHAPES[shape])
+
+    @precondition(lambda self: self.store.count() > 0)
+    @rule(pick=st.integers(0, 10**6))
+    def remove(self, pick):
+        bodies = self._bodies()
+        self.store.remove(bodies[pick % len(bodies)])
+
+    @rule()
+    def next_tick(self):
+        grid_contacts, grid_stats = self.grid.detect(self.store)
+        brute_contacts, brute_stats = self.brute.detect(self.store)
+        assert grid_contacts == brute_contacts
+        assert grid_stats.candidates <= brute_stats.candidates
+        self.store.tick += 1
+
+    @invariant()
+    def the_grid_bins_exactly_the_live_probed_bodies(self):
+        if self.store.listener is not self.grid.broadphase:
+            return  # not attached yet: the first detection builds it
+        self.grid.broadphase._drain(self.store.tick, self.grid.kinds)
+        binned = set(self.grid.broadphase.ranges)
+        probed = {b.id for kind in self.grid.kinds.probed
+                  for b in self.store.by_kind[kind]}
+        assert binned == probed
+
+
+GridAgainstBrute.TestCase.settings = settings(max_examples=60, stateful_step_count=40,
+                                              deadline=None)
+test_a_grid_fed_by_the_move_buffer_agrees_with_brute_force = GridAgainstBrute.TestCase
