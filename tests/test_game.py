@@ -200,3 +200,10 @@ def test_losing_the_last_ship_ends_the_game_and_start_begins_a_new_one():
     world.score = 120
     step_until(world, lambda r: Event.NEW_GAME in r.events, actions=Action.START, limit=300)
     assert world.score == 0 and world.ships == 3 and world.wave == 1 and world.games == 2
+
+
+def test_the_first_tick_reports_the_first_wave_starting():
+    world = World(seed=0)
+    first = world.step(0)
+    assert first.tick == 0 and Event.WAVE_STARTED in first.events
+    assert Event.WAVE_STARTED not in world.step(0).events  # once

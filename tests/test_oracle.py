@@ -13,10 +13,13 @@ from invaders.engine.broadphase import Brute
 from invaders.engine.detector import Detector
 from invaders.engine.rules import Motion, Shape
 from invaders.game import art
+from invaders.game.config import DEFAULT_CONFIG
 from invaders.game.kinds import Kind
 from invaders.game.replay import load
 from invaders.game.world import World
+from invaders.lab.matrix import Method
 from invaders.lab.oracle import true_contacts
+from invaders.lab.runner import SceneSpec, record, run_cell, scene_rules, truth
 from invaders.lab.shadow import Shadow
 from tests.helpers import GAME_RULES, Scene
 
@@ -76,3 +79,33 @@ def test_the_oracle_finds_the_first_substep_of_a_swept_touch():
     # plunger's lowest lit row (7) once it has come up 13 of them: 13/17 into the tick.
     assert (contact.a_id, contact.b_id) == (1, 2)
     assert contact.time == Fraction((80 - 60) - 7, 17)
+
+
+@pytest.mark.parametrize("multiplier", [1, 4, 16])
+def test_the_default_is_exact_on_storms_with_saucers_in_their_lanes(multiplier):
+    spec = SceneSpec.storm(300, 40, multiplier)
+    frames = record(spec)
+    rules = scene_rules(spec)
+    truths = truth(frames, rules)
+    row = run_cell(spec, Method(), frames, truths, rules=rules)
+    assert row["true"] > 100
+    assert (row["missed"], row["false"], row["late"]) == (0, 0, 0)
+    # The saucers were met; at 16 times the speed some only by shots that jumped the whole
+    # lane within one tick (below it at the start, above it at the end): a zone judged on
+    # where things are at either end would have dropped those.
+    lane_top, lane_h = DEFAULT_CONFIG.geometry.saucer_top, DEFAULT_CONFIG.geometry.saucer_lane_h
+    jumped = met = 0
+    for frame, pairs in zip(frames, truths, strict=True):
+        shots = {row[0]: row for row in frame.bodies[Kind.SHOT]}
+        saucers = {row[0] for row in frame.bodies[Kind.SAUCER]}
+        for a, b in pairs:
+            if a in saucers or b in saucers:
+                met += 1
+                _, _, y, _, py, _, shot_mask = shots[b if a in saucers else a]
+                h = shot_mask.get_size()[1]
+                jumped += py % 256 >= lane_top + lane_h and y % 256 + h <= lane_top
+    assert met > 5
+    if multiplier == 1:
+        assert jumped == 0
+    if multiplier == 16:
+        assert jumped > 0

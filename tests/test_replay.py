@@ -17,6 +17,7 @@ from hypothesis import strategies as st
 
 from invaders.app.cli import main
 from invaders.app.play import Session, open_window
+from invaders.game.config import GameConfig
 from invaders.game.replay import Replay, ReplayError, load, parse, record_headless, run
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
@@ -272,3 +273,20 @@ def test_a_recording_killed_mid_game_leaves_a_valid_replay_of_a_prefix(tmp_path)
     result, _ = run(replay)
     assert result.mismatch is None
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+def test_a_file_from_before_the_saucer_fields_loads_with_the_values_once_hard_coded(tmp_path):
+    data = json.loads((Path(__file__).resolve().parents[1] / "replays" /
+                       "cannon-death.json").read_text())
+    for name in ("saucer_start_left", "saucer_start_right", "saucer_exit_left",
+                 "saucer_exit_right"):
+        del data["config"]["geometry"][name]
+    path = tmp_path / "old.json"
+    path.write_text(json.dumps(data))
+    replay = load(path)
+    assert replay.config == GameConfig()
+    assert run(replay)[0].mismatch is None
+    del data["config"]["geometry"]["saucer_top"]  # a field that was always there
+    path.write_text(json.dumps(data))
+    with pytest.raises(ReplayError, match="lacks field 'saucer_top'"):
+        load(path)

@@ -60,12 +60,33 @@ class DetectionObserver(Protocol):
               stats: CollisionStats) -> None: ...
 
 
-def _in_zone(body: Body, zone: Zone, tick: int) -> bool:
-    """Whether the body's box over the whole tick meets the zone: a body that crosses it
-    within one tick is in it."""
-    x0, y0, x1, y1 = tick_box(body, tick)
-    return any(x0 < zx + zw and zx < x1 and y0 < zy + zh and zy < y1
-               for zx, zy, zw, zh in zone)
+class ZoneIndex:
+    """A zone's boxes binned in coarse cells, so that testing a body costs the same however
+    many boxes the zone has (a storm repeats the saucer lane in every tile)."""
+
+    CELL = 64
+
+    def __init__(self, zone: Zone) -> None:
+        self.zone = zone
+        self.cells: dict[tuple[int, int], list[tuple[int, int, int, int]]] = {}
+        c = self.CELL
+        for zx, zy, zw, zh in zone:
+            for cy in range(zy // c, (zy + zh - 1) // c + 1):
+                for cx in range(zx // c, (zx + zw - 1) // c + 1):
+                    self.cells.setdefault((cx, cy), []).append((zx, zy, zx + zw, zy + zh))
+
+    def holds(self, body: Body, tick: int) -> bool:
+        """Whether the body's box over the whole tick meets the zone: a body that crosses
+        it within one tick is in it."""
+        x0, y0, x1, y1 = tick_box(body, tick)
+        c = self.CELL
+        cells = self.cells
+        for cy in range(y0 // c, (y1 - 1) // c + 1):
+            for cx in range(x0 // c, (x1 - 1) // c + 1):
+                for bx0, by0, bx1, by1 in cells.get((cx, cy), ()):
+                    if x0 < bx1 and bx0 < x1 and y0 < by1 and by0 < y1:
+                        return True
+        return False
 
 
 def _shape_mask(body: Body, shape: Shape) -> pygame.mask.Mask:
@@ -83,7 +104,8 @@ class Detector:
         self.kinds = KindSets(rules.swept_kinds(), rules.probed_kinds())
         self.eroding = rules.eroding
         self.observers: list[DetectionObserver] = []
-        self._table = tuple((rule, rule.a, rule.b, rule.zone) for rule in rules)
+        self._table = tuple((rule, rule.a, rule.b, None if rule.zone is None
+                             else ZoneIndex(rule.zone)) for rule in rules)
         self._plans: dict[int, tuple] = {}  # kinds present (bit mask) -> entries that apply
 
     def detect(self, store: BodyStore) -> tuple[list[Contact], CollisionStats]:
@@ -95,8 +117,9 @@ class Detector:
             store.attach(broadphase)
             broadphase.rebuild(store, self.kinds)
         observers = self.observers
-        for observer in reversed(observers):
-            observer.before(store)
+        if observers:
+            for observer in reversed(observers):
+                observer.before(store)
         by_kind = store.by_kind
         tick = store.tick
         n = 0
@@ -116,8 +139,8 @@ class Detector:
             side_a: Sequence[Body] = by_kind[kind_a]
             side_b: Sequence[Body] = by_kind[kind_b]
             if zone is not None:
-                side_a = [body for body in side_a if _in_zone(body, zone, tick)]
-                side_b = [body for body in side_b if _in_zone(body, zone, tick)]
+                side_a = [body for body in side_a if zone.holds(body, tick)]
+                side_b = [body for body in side_b if zone.holds(body, tick)]
                 if not side_a or not side_b:
                     continue
             allowed += len(side_a) * len(side_b)
@@ -166,8 +189,9 @@ class Detector:
             contacts.sort(key=contact_order)
         stats = CollisionStats(n, n * (n - 1) // 2, allowed, len(pairs), rect_tests, rect_hits,
                                mask_tests, mask_hits, swept_tests, len(contacts))
-        for observer in observers:
-            observer.after(store, pairs, contacts, stats)
+        if observers:
+            for observer in observers:
+                observer.after(store, pairs, contacts, stats)
         return contacts, stats
 
     def _walk(self, a: Body, b: Body, rule: PairRule, tick: int,

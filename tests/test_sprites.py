@@ -1,0 +1,136 @@
+"""The engine on pygame sprite groups: the same pairs as groupcollide with collide_mask on
+still sprites, and a fast sprite caught where groupcollide lets it pass."""
+
+from __future__ import annotations
+
+import random
+import re
+from fractions import Fraction
+from pathlib import Path
+
+import pygame
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
+from invaders.engine.sprites import GroupCollide, SpriteCollider
+from tests.helpers import mask
+
+
+class Thing(pygame.sprite.Sprite):
+    def __init__(self, x: int, y: int, shape: pygame.mask.Mask | None, w: int = 0,
+                 h: int = 0) -> None:
+        super().__init__()
+        if shape is not None:
+            self.mask = shape
+            w, h = shape.get_size()
+        self.rect = pygame.Rect(x, y, w, h)
+
+
+def _random_mask(rng: random.Random) -> pygame.mask.Mask:
+    w, h = rng.randrange(1, 24), rng.randrange(1, 24)
+    m = pygame.mask.Mask((w, h))
+    for _ in range(rng.randrange(1, w * h + 1)):
+        m.set_at((rng.randrange(w), rng.randrange(h)), 1)
+    return m
+
+
+def _groups(seed: int, count: int) -> tuple[pygame.sprite.Group, pygame.sprite.Group]:
+    rng = random.Random(seed)
+    groups = pygame.sprite.Group(), pygame.sprite.Group()
+    for i in range(count):
+        x, y = rng.randrange(-20, 200), rng.randrange(-20, 200)
+        groups[i % 2].add(Thing(x, y, _random_mask(rng)))
+    return groups
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), count=st.integers(0, 80),
+       broadphase=st.sampled_from(["grid", "brute", "sweep"]))
+def test_still_sprites_give_exactly_what_groupcollide_with_collide_mask_gives(
+        seed, count, broadphase):
+    shots, aliens = _groups(seed, count)
+    expected = pygame.sprite.groupcollide(shots, aliens, False, False,
+                                          pygame.sprite.collide_mask)
+    ours = GroupCollide(broadphase)(shots, aliens)
+    assert ours == expected
+    assert list(ours) == list(expected)  # and in the same order
+
+
+def test_it_stays_equal_frame_after_frame_as_sprites_move_and_leave():
+    shots, aliens = _groups(seed=5, count=120)
+    collide = GroupCollide()
+    rng = random.Random(1)
+    matched = 0
+    for _ in range(30):
+        for sprite in [*shots, *aliens]:
+            sprite.rect.move_ip(rng.randrange(-3, 4), rng.randrange(-3, 4))
+        for sprite in list(shots)[:2]:
+            sprite.kill()
+        shots.add(Thing(rng.randrange(200), rng.randrange(200), _random_mask(rng)))
+        expected = pygame.sprite.groupcollide(shots, aliens, False, False,
+                                              pygame.sprite.collide_mask)
+        assert collide(shots, aliens) == expected
+        matched += len(expected)
+    assert matched > 30
+    assert collide.stats.candidates < collide.stats.naive_pairs  # the broad phase at work
+
+
+class Bullet(Thing):
+    """A sprite that says where it was last tick."""
+
+    def __init__(self, x: int, y: int) -> None:
+        super().__init__(x, y, mask("##", "##", "##", "##", "##", "##"))
+        self.last_rect = self.rect.copy()
+
+    def update(self, dy: int) -> None:
+        self.last_rect = self.rect.copy()
+        self.rect.move_ip(0, dy)
+
+
+def test_a_fast_sprite_is_caught_where_groupcollide_lets_it_pass_through():
+    bullet = Bullet(50, 92)  # rows 92-97
+    wall = Thing(40, 80, mask(*["#" * 20] * 3))  # 3 rows thin: rows 80-82
+    bullets, walls = pygame.sprite.Group(bullet), pygame.sprite.Group(wall)
+    collide = GroupCollide()
+    assert collide(bullets, walls) == {}
+    bullet.update(-20)  # to rows 72-77: past the wall in one tick
+    theirs = pygame.sprite.groupcollide(bullets, walls, False, False,
+                                        pygame.sprite.collide_mask)
+    assert theirs == {}  # neither place overlaps the wall: it went straight through
+    assert collide(bullets, walls) == {bullet: [wall]}
+
+
+def test_contacts_know_their_time_and_a_spent_bullet_stops_at_the_first_target():
+    SHOTS, TARGETS = 1, 2
+    rules = RuleTable((PairRule(SHOTS, TARGETS, Shape.BOX, Shape.MASK, Motion.SWEPT,
+                                spends_a=True),))
+    collider = SpriteCollider(rules)
+    bullet = Bullet(50, 100)
+    near = Thing(40, 90, mask(*["#" * 20] * 2))  # rows 90-91
+    far = Thing(40, 80, mask(*["#" * 20] * 2))  # rows 80-81
+    collider.collide({SHOTS: [bullet], TARGETS: [near, far]})
+    bullet.update(-20)  # rows 100-105 to 80-85: through both in one tick
+    contacts = collider.collide({SHOTS: [bullet], TARGETS: [near, far]})
+    assert [(c.a, c.b, c.time) for c in contacts] == [(bullet, near, Fraction(9, 20))]
+    assert collider.stats.swept_tests == 2  # both were tested; the near one came first
+
+
+def test_sprites_without_masks_are_their_rects():
+    a = Thing(0, 0, None, 10, 10)
+    b = Thing(9, 9, None, 5, 5)
+    c = Thing(10, 0, None, 5, 5)
+    found = GroupCollide()(pygame.sprite.Group(a), pygame.sprite.Group(b, c))
+    assert found == pygame.sprite.groupcollide(pygame.sprite.Group(a),
+                                               pygame.sprite.Group(b, c), False, False)
+    assert found == {a: [b]}
+
+
+def test_the_readme_example_runs_and_prints_what_it_says(capsys):
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    section = readme.split("## The engine on your own sprites", 1)[1]
+    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    assert len([line for line in code.splitlines() if line.strip()]) <= 15
+    exec(compile(code, "README.md", "exec"), {})
+    printed = capsys.readouterr().out.strip()
+    assert printed == re.search(r"# (True True \S+)", code).group(1) == "True True 1/2"
