@@ -60,3 +60,17 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[str]:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
         raise
+
+
+def clean_stale(path: str | os.PathLike[str]) -> None:
+    """Remove temporary files an interrupted atomic write of `path` left beside it."""
+    target = Path(path)
+    folder = target.parent if str(target.parent) else Path(".")
+    for stale in folder.glob(f".{glob_escape(target.name)}.*.tmp"):
+        with contextlib.suppress(OSError):
+            stale.unlink()
+
+
+def glob_escape(name: str) -> str:
+    """A file name with glob's special characters taken literally."""
+    return "".join(f"[{ch}]" if ch in "*?[" else ch for ch in name)

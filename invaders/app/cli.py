@@ -121,7 +121,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     source = Autopilot(args.seed, args.autopilot) if args.autopilot else Idle()
     recorder = None
     if args.record is not None:
-        from invaders.game.replay import Recorder
+        from invaders.app.recording import Recorder
 
         _check_writable(args.record, "replay")
         recorder = Recorder(world, args.record, save_every=3600)

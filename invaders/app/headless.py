@@ -9,9 +9,9 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Protocol
 
+from invaders.app.recording import Recorder
 from invaders.app.report import CounterTable, ReportWriter, report_format
 from invaders.atomic import atomic_writer
-from invaders.game.replay import Recorder
 from invaders.game.world import World
 
 

@@ -13,11 +13,12 @@ from collections.abc import Callable, Iterator
 import pygame
 
 from invaders.app.loop import FixedStepLoop
+from invaders.app.recording import Recorder
 from invaders.app.render import CandidateWatch, Renderer
 from invaders.atomic import atomic_path
 from invaders.game.actions import Action
 from invaders.game.config import SCREEN_H, SCREEN_W
-from invaders.game.replay import Recorder, Replay
+from invaders.game.replay import Replay
 from invaders.game.world import TickReport, World
 from invaders.lab.autopilot import Autopilot
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 import time
 
+from invaders.app.recording import save_replay
 from invaders.game.replay import ReplayError, load, replay_paths, run
 
 
@@ -31,7 +32,7 @@ def check_all(args: list[str], update: bool = False, broadphase: str = "grid") -
         if update:
             if result.mismatch is not None:
                 replay.checkpoints = produced
-                replay.save(path)
+                save_replay(path, replay)
                 changed += 1
                 print(f"updated {path}: {result.mismatch}")
             continue
