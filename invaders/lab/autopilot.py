@@ -20,15 +20,25 @@ DODGE_MARGIN = 2  # columns of room kept between a bomb and the cannon
 SHOT_TICKS_TO_LANE = 42  # ticks the shot needs from the barrel to the saucer lane
 
 
-ALL_COLUMNS = frozenset(range(11))
-CORRIDOR = 5  # the column a defender clears, then hides under
 STYLES = {
-    # name: (chance to notice a bomb, rack columns it shoots at, keeps the 300 shot for saucers)
-    "hunter": (0.85, ALL_COLUMNS, False),
-    "expert": (0.98, ALL_COLUMNS, True),
-    "defender": (0.995, frozenset({CORRIDOR}), False),
-    "pacifist": (0.995, frozenset(), False),
+    # name: (chance to notice a bomb, rack columns it shoots at: all, the middle one (which
+    # a defender clears, then hides under) or none, keeps the 300 shot for saucers)
+    "hunter": (0.85, "all", False),
+    "expert": (0.98, "all", True),
+    "defender": (0.995, "middle", False),
+    "pacifist": (0.995, "none", False),
 }
+
+
+def corridor(world: World) -> int:
+    """The rack column a defender clears: the middle one."""
+    return world.config.geometry.cols // 2
+
+
+def target_columns(world: World, which: str) -> range | tuple[int, ...]:
+    if which == "all":
+        return range(world.config.geometry.cols)
+    return (corridor(world),) if which == "middle" else ()
 
 
 class Autopilot:
@@ -151,7 +161,7 @@ class Autopilot:
     def _shootable(self, world: World) -> list:
         """The lowest live alien of each column this style shoots at."""
         rack = world.rack
-        found = (rack.lowest_in_column(col) for col in self.columns)
+        found = (rack.lowest_in_column(col) for col in target_columns(world, self.columns))
         return [alien for alien in found if alien is not None]
 
     def _find_target(self, world: World) -> int | None:
@@ -231,8 +241,9 @@ def _hiding_place(world: World) -> int:
     there is one (nothing falls from it), else beside the rack, on the side it is not."""
     g = world.config.geometry
     aliens = world.rack.live_aliens()
-    if aliens and world.rack.lowest_in_column(CORRIDOR) is None:
-        x = world.rack.ref_x + g.cell * CORRIDOR + 8
+    middle = corridor(world)
+    if aliens and world.rack.lowest_in_column(middle) is None:
+        x = world.rack.ref_x + g.cell * middle + 8
         if g.cannon_min_x + 8 <= x <= g.cannon_max_x + 8:
             return x
     left = min((a.x for a in aliens), default=g.cannon_min_x)
