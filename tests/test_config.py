@@ -169,3 +169,17 @@ def test_a_value_the_game_cannot_honour_is_refused_naming_it(section, field, val
 def test_sections_must_agree():
     with pytest.raises(ConfigError, match="names column 11; the rack has 8"):
         GameConfig(geometry=dataclasses.replace(G, cols=8))
+
+
+def test_the_readme_lists_every_config_range_as_the_config_declares_it():
+    from pathlib import Path
+
+    from invaders.app.configdoc import ranges_table
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    table = ranges_table()
+    assert table in readme
+    assert table.count("\n") == 2 + sum(1 for section in ("geometry", "timing", "speeds",
+                                                          "rules")
+                                        for _ in dataclasses.fields(getattr(GameConfig(),
+                                                                            section))) + 1

@@ -288,8 +288,7 @@ def mutants(draw, objects: list) -> str:
     return text
 
 
-@settings(max_examples=150, deadline=None,
-          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(suppress_health_check=[HealthCheck.function_scoped_fixture])  # count: the profile's
 @given(data=st.data())
 def test_any_structural_change_is_refused_in_one_line_or_replays_cleanly(replay_file,
                                                                          tmp_path, capsys,

@@ -82,15 +82,18 @@ def test_the_pareto_front_keeps_only_points_nothing_beats():
     assert [p[2] for p in charts.pareto(points)] == ["a", "b", "d"]
 
 
-def test_study_quick_from_the_command_line(tmp_path, capsys):
-    out = tmp_path / "study"
-    assert main(["study", "--quick", "--jobs", "2", "--out", str(out)]) == 0
+def test_study_quick_from_any_folder_studies_the_storms(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # no ./replays here, as after an install
+    assert main(["study", "--quick", "--jobs", "2", "--out", "nested/study"]) == 0
     printed = capsys.readouterr().out
+    assert printed.startswith("study: no ./replays folder here: studying the storms only")
     assert "default (rect/mask/auto/every1)" in printed and "0.0000 errors" in printed
+    out = tmp_path / "nested" / "study"
     with (out / "study.csv").open() as handle:
         rows = list(csv.DictReader(handle))
-    assert len(rows) > 100
-    assert {"speed_accuracy.png", "counters.png", "scaling.png"} <= {p.name for p in out.iterdir()}
+    assert len(rows) > 50 and all(row["scene"].startswith("storm") for row in rows)
+    assert {p.name for p in out.iterdir()} == {"study.csv", "scaling.csv",
+                                               "speed_accuracy.png", "scaling.png"}
 
 
 @pytest.mark.parametrize("args, problem", [

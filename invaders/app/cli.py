@@ -1,4 +1,5 @@
-"""Command line: parse, call, report. Exit codes: 0 ok, 1 a check failed, 2 bad input or usage."""
+"""Command line: parse, call, report. Exit codes: 0 ok, 1 a check failed, 2 bad input or
+usage, 3 an internal error; 128 + N when signal N stopped a run or a game."""
 
 from __future__ import annotations
 
@@ -47,7 +48,8 @@ def build_parser() -> Parser:
         description="Space Invaders (1978) at its own 224x256 resolution, and a measured "
                     "laboratory of 2D collision detection: play it in a window, run and check "
                     "its replays headless, time and score the collision methods.",
-        epilog="Exit codes: 0 ok, 1 a check failed, 2 bad input or usage. "
+        epilog="Exit codes: 0 ok, 1 a check failed, 2 bad input or usage, 3 an internal "
+               "error (--debug shows its traceback), 128+N stopped by signal N. "
                "'invaders COMMAND --help' tells more.")
     parser.add_argument("--version", action="version", version=f"invaders {__version__}")
     sub = parser.add_subparsers(dest="command", parser_class=Parser)
@@ -93,7 +95,7 @@ def build_parser() -> Parser:
                        help="run scenes on a Dask cluster (the [study] extra)")
     study.add_argument("--out", metavar="FOLDER", default="study",
                        help="where study.csv, scaling.csv and the charts go")
-    study.add_argument("--replays", metavar="FOLDER", default="replays",
+    study.add_argument("--replays", metavar="FOLDER", default=None,
                        help="the replays to study (*.json)")
 
     bench = sub.add_parser("bench", help="time the pipeline against references, as ratios")
@@ -107,31 +109,37 @@ def cmd_run(args: argparse.Namespace) -> int:
     from invaders.app.headless import Idle, run, use_dummy_drivers
 
     use_dummy_drivers()
-    from invaders.app.report import report_format
+    from invaders.app.outputs import REPLAY_SUFFIXES, REPORT_SUFFIXES, check_output, writing
+    from invaders.app.signals import StopSignals
     from invaders.app.summary import summary_lines
     from invaders.game.world import World
     from invaders.lab.autopilot import Autopilot
 
     if args.report is not None:
-        try:
-            report_format(args.report)
-        except ValueError as err:
-            raise UsageError(str(err)) from None
+        check_output(args.report, "report", REPORT_SUFFIXES)
+    if args.record is not None:
+        check_output(args.record, "replay", REPLAY_SUFFIXES)
     world = World(seed=args.seed, broadphase=args.broadphase, cell=args.cell)
     source = Autopilot(args.seed, args.autopilot) if args.autopilot else Idle()
     recorder = None
     if args.record is not None:
         from invaders.app.recording import Recorder
 
-        _check_writable(args.record, "replay")
         recorder = Recorder(world, args.record, save_every=3600)
-    try:
-        result = run(world, source, args.ticks, args.report, recorder)
-    except OSError as err:
-        raise UsageError(f"cannot write report {args.report!r}: {err.strerror}") from None
-    finally:
-        if recorder is not None:
-            recorder.save()
+    with StopSignals() as signals:
+        try:
+            with writing(args.report or args.record or "", "report or replay"):
+                result = run(world, source, args.ticks, args.report, recorder,
+                             stop=lambda: signals.received is not None)
+        finally:
+            if recorder is not None:  # the world is between ticks: a whole replay
+                with writing(args.record, "replay"):
+                    recorder.save()
+    if signals.received is not None:
+        saved = f"; saved {args.record} ({world.tick} ticks)" if recorder is not None else ""
+        print(f"invaders: stopped by {signals.name} at tick {world.tick}{saved}",
+              file=sys.stderr)
+        return signals.exit_code
     name = f"autopilot {args.autopilot}" if args.autopilot else "none"
     for line in summary_lines(result, args.seed, args.broadphase, name):
         print(line)
@@ -139,21 +147,12 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _check_writable(path: str, what: str) -> None:
-    """Fail early, in one line, if a file cannot be written where asked."""
-    import os
-
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise UsageError(f"cannot write {what} {path!r}: no such folder")
-    if os.path.isdir(path):
-        raise UsageError(f"cannot write {what} {path!r}: it is a folder")
-
-
 def cmd_play(args: argparse.Namespace) -> int:
+    from invaders.app.outputs import PICTURE_SUFFIXES, REPLAY_SUFFIXES, check_output
     from invaders.app.play import play, screenshot
 
     if args.screenshot:
+        check_output(args.screenshot, "screenshot", PICTURE_SUFFIXES)
         return screenshot(args.screenshot, seed=args.seed, ticks=args.ticks, scale=args.scale,
                           overlay=args.overlay, broadphase=args.broadphase)
     replay = None
@@ -165,14 +164,12 @@ def cmd_play(args: argparse.Namespace) -> int:
         except ReplayError as err:
             raise UsageError(f"{args.replay}: {err}") from None
     if args.record:
-        _check_writable(args.record, "replay")
+        check_output(args.record, "replay", REPLAY_SUFFIXES)
     import pygame
 
     try:
         return play(seed=args.seed, scale=args.scale, broadphase=args.broadphase,
                     overlay=args.overlay, record=args.record, replay=replay, speed=args.speed)
-    except KeyboardInterrupt:
-        return 130
     except pygame.error as err:
         raise UsageError(f"cannot open a window ({err}); without a display, use "
                          "'invaders run' or set SDL_VIDEODRIVER=dummy") from None
@@ -191,9 +188,13 @@ def cmd_bench(args: argparse.Namespace) -> int:
     from invaders.app.headless import use_dummy_drivers
 
     use_dummy_drivers()
-    from invaders.lab.bench import bench
+    from invaders.lab.bench import BenchFailure, bench
 
-    return bench(ticks=args.ticks, seed=args.seed, repeat=args.repeat)
+    try:
+        return bench(ticks=args.ticks, seed=args.seed, repeat=args.repeat)
+    except BenchFailure as err:
+        print(f"invaders: bench: {err}", file=sys.stderr)
+        return 1
 
 
 def cmd_study(args: argparse.Namespace) -> int:
@@ -202,9 +203,16 @@ def cmd_study(args: argparse.Namespace) -> int:
     from invaders.app.headless import use_dummy_drivers
 
     use_dummy_drivers()
-    replays = Path(args.replays)
-    if not replays.is_dir() or not any(replays.glob("*.json")):
-        raise UsageError(f"--replays {args.replays!r}: no folder of replay files (*.json)")
+    if args.replays is not None:
+        replays: Path | None = Path(args.replays)
+        if not replays.is_dir() or not any(replays.glob("*.json")):
+            raise UsageError(f"--replays {args.replays!r}: no folder of replay files (*.json)")
+    else:  # by default ./replays, as in a checkout; elsewhere the storms alone
+        replays = Path("replays")
+        if not replays.is_dir() or not any(replays.glob("*.json")):
+            print("study: no ./replays folder here: studying the storms only "
+                  "(--replays FOLDER adds recorded games)")
+            replays = None
     if args.scheduler:
         try:
             import dask.distributed  # noqa: F401
@@ -213,6 +221,12 @@ def cmd_study(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise UsageError(f"--out {args.out!r} is a file, not a folder")
+    from invaders.app.outputs import check_output
+
+    made = out  # the study makes the folder and any missing above it: check the first that is
+    while not made.exists() and made != made.parent:
+        made = made.parent
+    check_output(str(made / "study.csv"), "study", (".csv",))
     from invaders.lab.plan import study
 
     return study(out, replays, quick=args.quick, jobs=args.jobs, scheduler=args.scheduler)
@@ -223,13 +237,21 @@ COMMANDS = {"run": cmd_run, "play": cmd_play, "bench": cmd_bench, "replay": cmd_
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run one command; exit codes: 0 ok, 1 a check failed, 2 bad input or usage, 3 an
+    internal error (one line; `--debug` anywhere on the line prints the traceback)."""
+    from invaders.app.outputs import OutputError
+    from invaders.app.processing import current
+
+    current.clear()
     argv = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in argv
+    argv = [arg for arg in argv if arg != "--debug"]
     try:
         args = build_parser().parse_args(argv)
         if args.command is None:
             args = build_parser().parse_args(["play", *argv])
         return COMMANDS[args.command](args)
-    except UsageError as err:
+    except (UsageError, OutputError) as err:
         print(f"invaders: error: {err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
@@ -240,6 +262,17 @@ def main(argv: Sequence[str] | None = None) -> int:
 
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except Exception as err:  # the last guard: one line, never a bare traceback
+        if debug:
+            import traceback
+
+            traceback.print_exc()
+        where = f" while processing {current[-1]}" if current else ""
+        text = " ".join(f"{type(err).__name__}: {err}".split())[:300]
+        print(f"invaders: internal error{where}: {text} (run it again with --debug for "
+              "the traceback)", file=sys.stderr)
+        return 3
+
 
 
 if __name__ == "__main__":

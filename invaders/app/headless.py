@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 import os
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import Protocol
 
@@ -40,13 +40,17 @@ class RunResult:
 
 
 def run(world: World, source: InputSource, ticks: int, report: str | None = None,
-        recorder: Recorder | None = None) -> RunResult:
-    """Step `world` `ticks` times with `source`'s input; optionally write the per-tick report
-    (atomically: the file appears whole when the run ends) and record the run as a replay."""
-    table = CounterTable(ticks)
+        recorder: Recorder | None = None,
+        stop: Callable[[], bool] | None = None) -> RunResult:
+    """Step `world` `ticks` times with `source`'s input, or until `stop()` says so (asked
+    between ticks); optionally write the per-tick report (atomically: the file appears
+    whole when the run ends) and record the run as a replay. Keeps nothing per tick."""
+    table = CounterTable()
     events: Counter = Counter()
     with _report(report) as writer:
         for _ in range(ticks):
+            if stop is not None and stop():
+                break
             bits = source.actions(world)
             result = world.step(bits)
             if recorder is not None:

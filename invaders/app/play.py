@@ -6,16 +6,19 @@ the real windowed code with a fake clock at any frame rate (dummy video driver).
 
 from __future__ import annotations
 
-import signal
+import io
+import sys
 import time
 from collections.abc import Callable, Iterator
 
 import pygame
 
 from invaders.app.loop import FixedStepLoop
+from invaders.app.outputs import writing
 from invaders.app.recording import Recorder
 from invaders.app.render import CandidateWatch, Renderer
-from invaders.atomic import atomic_path
+from invaders.app.signals import StopSignals
+from invaders.atomic import atomic_writer
 from invaders.game.actions import Action
 from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.replay import Replay
@@ -87,11 +90,13 @@ class Session:
                 self.set_overlay(not self.overlay)
         return True
 
-    def frame(self, held: int) -> None:
-        """Run the ticks real time has banked (with `held` keys, unless watching a replay),
-        then draw."""
+    def frame(self, held: int, stop: Callable[[], bool] | None = None) -> None:
+        """Run the ticks real time has banked (with `held` keys, unless watching a replay;
+        fewer if `stop()` asks between two), then draw."""
         ticks, alpha = (0, 0.0) if self.paused or self.replay_done else self.loop.frame()
         for _ in range(ticks):
+            if stop is not None and stop():
+                break
             bits = held
             if self.inputs is not None:
                 bits = next(self.inputs, None)
@@ -115,10 +120,12 @@ def open_window(scale: int) -> pygame.Surface:
 
 def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool = False,
          record: str | None = None, replay: Replay | None = None, speed: int = 1) -> int:
-    """Open a window and play (or watch a replay) until Esc or the window closes.
+    """Open a window and play (or watch a replay) until Esc, the window closes or a signal.
 
-    A recording is saved every few seconds and again on quit, window close, Ctrl-C or an
-    error, always atomically: at worst the last few seconds are lost, never the file.
+    A recording is saved every few seconds and again when the game ends however it ends,
+    always between two ticks, by appending whole lines: at worst the last seconds are lost,
+    never the file. A signal (Ctrl-C, TERM, HUP) ends it with the shell's code (130, 143,
+    129) after saying where the recording went.
     """
     if replay is not None:
         world = World(replay.seed, replay.config, broadphase=broadphase)
@@ -128,24 +135,25 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool 
     window = open_window(scale)
     session = Session(world, window, time.perf_counter, scale, replay, speed, recorder,
                       overlay)
-    previous = signal.signal(signal.SIGTERM, _raise_interrupt)
     frame_clock = pygame.time.Clock()
-    try:
-        while all(session.handle(event) for event in pygame.event.get()):
-            session.frame(keyboard_actions(pygame.key.get_pressed()))
-            pygame.display.flip()
-            frame_clock.tick(MAX_FPS)
-        return 0
-    finally:
-        signal.signal(signal.SIGTERM, previous)
-        if recorder is not None:
-            recorder.save()
-            print(f"saved {record}: {recorder.replay.ticks} ticks")
-        pygame.display.quit()
-
-
-def _raise_interrupt(signum, frame) -> None:
-    raise KeyboardInterrupt
+    with StopSignals() as signals:
+        try:
+            while signals.received is None and all(
+                    session.handle(event) for event in pygame.event.get()):
+                session.frame(keyboard_actions(pygame.key.get_pressed()),
+                              stop=lambda: signals.received is not None)
+                pygame.display.flip()
+                frame_clock.tick(MAX_FPS)
+        finally:
+            if recorder is not None:
+                with writing(record or "", "replay"):
+                    recorder.save()
+                print(f"saved {record}: {recorder.replay.ticks} ticks")
+            pygame.display.quit()
+    if signals.received is not None:
+        print(f"invaders: stopped by {signals.name}", file=sys.stderr)
+        return signals.exit_code
+    return 0
 
 
 def screenshot(path: str, seed: int = 0, ticks: int = 600, scale: int = 3,
@@ -164,7 +172,9 @@ def screenshot(path: str, seed: int = 0, ticks: int = 600, scale: int = 3,
         report = world.step(pilot.actions(world))
     target = pygame.Surface((SCREEN_W * scale, SCREEN_H * scale))
     Renderer(scale).draw(target, world, 0.0, overlay, report, watch.pairs)
-    with atomic_path(path) as tmp:
-        pygame.image.save(target, tmp)
+    png = io.BytesIO()
+    pygame.image.save(target, png, "screenshot.png")
+    with writing(path, "screenshot"), atomic_writer(path, "wb") as handle:
+        handle.write(png.getvalue())
     print(f"saved {path} after {ticks} ticks (seed {seed})")
     return 0

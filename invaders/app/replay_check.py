@@ -4,9 +4,14 @@ from __future__ import annotations
 
 import sys
 import time
+from pathlib import Path
 
+from invaders.app.outputs import REPLAY_SUFFIXES, OutputError, check_output, writing
+from invaders.app.processing import working_on
 from invaders.app.recording import save_replay
-from invaders.game.replay import ReplayError, load, replay_paths, run
+from invaders.game.replay import Replay, ReplayError, load, replay_paths, run
+
+UPDATED = -1
 
 
 def check_all(args: list[str], update: bool = False, broadphase: str = "grid") -> int:
@@ -21,29 +26,41 @@ def check_all(args: list[str], update: bool = False, broadphase: str = "grid") -
     for path in paths:
         try:
             replay = load(path)
-        except ReplayError as err:
+            if update:
+                check_output(str(path), "replay", REPLAY_SUFFIXES)
+        except (ReplayError, OutputError) as err:
             print(f"invaders: error: {path}: {err}", file=sys.stderr)
             worst = 2
             continue
-        start = time.perf_counter()
-        result, produced = run(replay, broadphase, recompute=update)
-        seconds = time.perf_counter() - start
-        rate = f"{replay.ticks / seconds:,.0f} ticks/s" if seconds > 0 else ""
-        if update:
-            if result.mismatch is not None:
-                replay.checkpoints = produced
-                save_replay(path, replay)
-                changed += 1
-                print(f"updated {path}: {result.mismatch}")
-            continue
-        if result.mismatch is None:
-            final = result.final
-            print(f"ok {path}: {replay.ticks} ticks, {result.checkpoints} checkpoints, "
-                  f"score {final.score}, wave {final.wave}, ships {final.ships} ({rate})")
+        with working_on(path):
+            outcome = _check(path, replay, broadphase, update)
+        if outcome == UPDATED:
+            changed += 1
         else:
-            print(f"FAIL {path}: first difference at {result.mismatch}")
-            worst = max(worst, 1)
+            worst = max(worst, outcome)
     if update:
         print(f"{changed} of {len(paths)} replay files changed")
     return worst
 
+
+def _check(path: Path, replay: Replay, broadphase: str, update: bool) -> int:
+    """Run one replay: 0 it passed (or needed no update), 1 it differed, UPDATED."""
+    start = time.perf_counter()
+    result, produced = run(replay, broadphase, recompute=update)
+    seconds = time.perf_counter() - start
+    if update:
+        if result.mismatch is None:
+            return 0
+        replay.checkpoints = produced
+        with writing(path, "replay"):
+            save_replay(path, replay)
+        print(f"updated {path}: {result.mismatch}")
+        return UPDATED
+    if result.mismatch is not None:
+        print(f"FAIL {path}: first difference at {result.mismatch}")
+        return 1
+    final = result.final
+    rate = f"{replay.ticks / seconds:,.0f} ticks/s" if seconds > 0 else ""
+    print(f"ok {path}: {replay.ticks} ticks, {result.checkpoints} checkpoints, "
+          f"score {final.score}, wave {final.wave}, ships {final.ships} ({rate})")
+    return 0

@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import json
+from collections import Counter
 from pathlib import Path
 from typing import IO
-
-import numpy as np
 
 from invaders.engine.stats import STAT_FIELDS, CollisionStats
 
@@ -41,23 +40,43 @@ class ReportWriter:
 
 
 class CounterTable:
-    """Every tick's counters in one preallocated array, for totals and medians."""
+    """Totals and exact medians of every counter over a run, kept as per-value counts: its
+    memory grows with the number of distinct values a counter takes (small integers), not
+    with the number of ticks, so a run of any length stays flat."""
 
-    def __init__(self, ticks: int) -> None:
-        self.rows = np.zeros((ticks, len(STAT_FIELDS)), dtype=np.int64)
+    def __init__(self) -> None:
         self.count = 0
+        self._totals = [0] * len(STAT_FIELDS)
+        self._values: list[Counter[int]] = [Counter() for _ in STAT_FIELDS]
 
     def add(self, stats: CollisionStats) -> None:
-        self.rows[self.count] = stats
         self.count += 1
+        totals = self._totals
+        for i, value in enumerate(stats):
+            totals[i] += value
+            self._values[i][value] += 1
 
     def totals(self) -> dict[str, int]:
-        used = self.rows[: self.count]
-        return {name: int(v) for name, v in zip(STAT_FIELDS, used.sum(axis=0), strict=True)}
+        return dict(zip(STAT_FIELDS, self._totals, strict=True))
 
     def medians(self) -> dict[str, float]:
-        used = self.rows[: self.count]
-        if self.count == 0:
-            return dict.fromkeys(STAT_FIELDS, 0.0)
-        meds = np.median(used, axis=0)
-        return {name: float(v) for name, v in zip(STAT_FIELDS, meds, strict=True)}
+        """The median of each counter (the mean of the middle two for an even count)."""
+        return {name: _median(values, self.count)
+                for name, values in zip(STAT_FIELDS, self._values, strict=True)}
+
+
+def _median(values: Counter[int], count: int) -> float:
+    if count == 0:
+        return 0.0
+    low_at, high_at = (count - 1) // 2, count // 2  # the middle positions, 0-based
+    low = high = 0
+    seen = 0
+    for value in sorted(values):
+        before = seen
+        seen += values[value]  # positions before..seen-1 hold this value
+        if before <= low_at < seen:
+            low = value
+        if before <= high_at < seen:
+            high = value
+            break
+    return (low + high) / 2

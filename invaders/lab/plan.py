@@ -170,11 +170,12 @@ def scaling_rows(plan: Plan, rows: list[dict], budget: float) -> list[dict]:
     return out
 
 
-def study(out: Path, replays: Path, quick: bool = False, jobs: int = 1,
+def study(out: Path, replays: Path | None, quick: bool = False, jobs: int = 1,
           scheduler: str | None = None) -> int:
     """Run the study; write study.csv, scaling.csv and the charts into `out`."""
     out.mkdir(parents=True, exist_ok=True)
-    plan = make_plan(replays.glob("*.json"), quick)
+    recorded = sorted(replays.glob("*.json")) if replays is not None else []
+    plan = make_plan(recorded, quick)
     where = f"on {scheduler}" if scheduler else f"{jobs} process{'es' if jobs > 1 else ''}"
     print(f"study: {plan.cells} cells over {len(plan.work)} scenes, {where}")
     bar = Progress(plan.cells, "study")
@@ -196,16 +197,17 @@ def study(out: Path, replays: Path, quick: bool = False, jobs: int = 1,
         return 0
     assert charts is not None
     charts.speed_accuracy(rows, out / "speed_accuracy.png")
-    first = sorted(replays.glob("*.json"))[0]
-    charts.counters(game_counters(first), out / "counters.png",
-                    f"Pipeline counters per tick, {first.stem}")
+    if recorded:  # the counters chart follows a recorded game
+        charts.counters(game_counters(recorded[0]), out / "counters.png",
+                        f"Pipeline counters per tick, {recorded[0].stem}")
     series = {label: [(r["bodies"], r[key]) for r in scale if r.get(key)]
               for label, key in (("ours (broad phase chosen from the scene)", "ours_auto"),
                                  ("brute force", "brute"), ("sort-and-sweep", "sweep"),
                                  ("groupcollide + collide_mask", "groupcollide_mask"),
                                  ("pymunk spatial hash, boxes only", "pymunk_boxes"))}
     charts.scaling(series, out / "scaling.png")
-    print(f"wrote {out / 'study.csv'}, {out / 'scaling.csv'} and three charts in {out}")
+    print(f"wrote {out / 'study.csv'}, {out / 'scaling.csv'} and "
+          f"{'three' if recorded else 'two'} charts in {out}")
     return 0
 
 

@@ -1,0 +1,77 @@
+"""Every file the program writes, checked in one place before any work starts, and every
+write's failure reported the same way: one line naming the file and the reason (exit 2).
+
+A target must be absent or a regular file (nothing ever replaces a device, a pipe, a folder
+or a link), its folder must exist and be writable, and its name must end in a suffix its
+format allows. Writes go through `atomic.py`, which flushes and fsyncs before the rename,
+so whoever prints "saved" after a write has the bytes on disk.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import os
+import stat
+from collections.abc import Iterator
+from pathlib import Path
+
+NAME_MAX = 255  # bytes in one file name on the file systems we write to
+
+
+class OutputError(Exception):
+    """A file that cannot be written where asked; the message names it and why."""
+
+
+def check_output(path: str, what: str, suffixes: tuple[str, ...]) -> Path:
+    """The path, if a `what` (say "replay") can be written there; else OutputError."""
+    shown = path if len(path) <= 80 else path[:77] + "..."
+    if not path:
+        raise OutputError(f"{what}: an empty file name")
+    target = Path(path)
+    if len(os.fsencode(target.name)) > NAME_MAX:
+        raise OutputError(f"{what} {shown!r}: the file name is longer than {NAME_MAX} bytes")
+    folder = target.parent if str(target.parent) else Path(".")
+    try:
+        folder_info = os.stat(folder)
+    except FileNotFoundError:
+        raise OutputError(f"cannot write {what} {shown!r}: no such folder") from None
+    except OSError as err:
+        raise OutputError(f"cannot write {what} {shown!r}: {err.strerror}") from None
+    if not stat.S_ISDIR(folder_info.st_mode):
+        raise OutputError(f"cannot write {what} {shown!r}: {str(folder)!r} is not a folder")
+    if os.statvfs(folder).f_flag & os.ST_RDONLY:
+        raise OutputError(f"cannot write {what} {shown!r}: read-only file system")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise OutputError(f"cannot write {what} {shown!r}: permission denied")
+    try:
+        info = os.lstat(target)
+    except FileNotFoundError:
+        info = None
+    except OSError as err:
+        raise OutputError(f"cannot write {what} {shown!r}: {err.strerror}") from None
+    if info is not None and stat.S_ISDIR(info.st_mode):
+        raise OutputError(f"cannot write {what} {shown!r}: it is a folder")
+    if info is not None and not stat.S_ISREG(info.st_mode):
+        raise OutputError(f"cannot write {what} {shown!r}: it is not a regular file "
+                          "(a device, a pipe or a link), and will not be replaced")
+    if target.suffix.lower() not in suffixes:
+        raise OutputError(f"{what} {shown!r} must end in {' or '.join(suffixes)}")
+    return target
+
+
+@contextlib.contextmanager
+def writing(path: str | os.PathLike[str], what: str) -> Iterator[None]:
+    """Turn a failed write (no space, permission, read-only) into an OutputError."""
+    try:
+        yield
+    except OSError as err:
+        reason = err.strerror or str(err)
+        if err.errno == errno.ENOSPC:
+            reason = "no space left on the device"
+        raise OutputError(f"cannot write {what} {str(path)!r}: {reason}") from None
+
+
+REPLAY_SUFFIXES = (".json",)  # `invaders replay FOLDER` reads *.json
+REPORT_SUFFIXES = (".csv", ".jsonl")
+PICTURE_SUFFIXES = (".png",)

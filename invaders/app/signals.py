@@ -1,0 +1,43 @@
+"""Signals that stop a run or a game at a tick boundary, never inside one.
+
+While a `StopSignals` is active, SIGINT, SIGTERM and SIGHUP only note that a stop was asked;
+the loop looks at `received` between ticks and winds down, so a recording always ends on a
+whole tick. A second signal of the kind stops at once (as a plain Ctrl-C would).
+"""
+
+from __future__ import annotations
+
+import signal
+from types import FrameType, TracebackType
+
+SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+class StopSignals:
+    def __init__(self) -> None:
+        self.received: int | None = None
+        self._previous: dict[int, object] = {}
+
+    def __enter__(self) -> StopSignals:
+        for signum in SIGNALS:
+            self._previous[signum] = signal.signal(signum, self._handle)
+        return self
+
+    def _handle(self, signum: int, frame: FrameType | None) -> None:
+        if self.received is not None:
+            raise KeyboardInterrupt
+        self.received = signum
+
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 trace: TracebackType | None) -> None:
+        for signum, handler in self._previous.items():
+            signal.signal(signum, handler)  # type: ignore[arg-type]
+
+    @property
+    def exit_code(self) -> int:
+        """128 + the signal's number, as shells report it (130 for Ctrl-C, 143 for TERM)."""
+        return 128 + self.received if self.received is not None else 0
+
+    @property
+    def name(self) -> str:
+        return signal.Signals(self.received).name if self.received is not None else ""

@@ -1,0 +1,251 @@
+"""Bad input never crashes and nothing recorded is lost: every output path checked in one
+place, every write failure one line, special files refused, an internal error one line
+(exit 3), signals stop recordings on a whole tick, and memory stays flat however long a run.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import random
+import signal
+import statistics
+import subprocess
+import sys
+import textwrap
+import time
+from collections import Counter
+from pathlib import Path
+
+import pytest
+
+from invaders.app import cli
+from invaders.app.cli import main
+from invaders.app.report import CounterTable
+from invaders.engine.stats import STAT_FIELDS, CollisionStats
+from invaders.game.replay import load, run
+
+ROOT = Path(__file__).resolve().parents[1]
+INVADERS = str(Path(sys.executable).with_name("invaders"))
+ENV = dict(os.environ, SDL_VIDEODRIVER="dummy", SDL_AUDIODRIVER="dummy")
+
+
+def _one_line_error(capsys, args: list[str]) -> str:
+    assert main(args) == 2
+    out, err = capsys.readouterr()
+    assert len(err.strip().splitlines()) == 1 and err.startswith("invaders: error: ")
+    assert "saved" not in out
+    return err
+
+
+@pytest.mark.parametrize("target, words", [
+    ("", "an empty file name"),
+    ("missing/game.json", "no such folder"),
+    ("/dev/null", "not a regular file"),
+    ("x" * 300 + ".json", "longer than 255 bytes"),
+    ("game.txt", "must end in .json"),
+])
+def test_a_recording_that_cannot_be_written_is_refused_before_the_run(capsys, tmp_path,
+                                                                     monkeypatch, target,
+                                                                     words):
+    monkeypatch.chdir(tmp_path)
+    err = _one_line_error(capsys, ["run", "--ticks", "5", "--record", target])
+    assert words in err
+
+
+def test_nothing_ever_replaces_a_link_or_a_folder(capsys, tmp_path):
+    real = tmp_path / "real.json"
+    real.write_text("precious")
+    link = tmp_path / "link.json"
+    link.symlink_to(real)
+    assert "not a regular file" in _one_line_error(
+        capsys, ["run", "--ticks", "5", "--record", str(link)])
+    folder = tmp_path / "folder.json"
+    folder.mkdir()
+    assert "it is a folder" in _one_line_error(
+        capsys, ["run", "--ticks", "5", "--record", str(folder)])
+    assert real.read_text() == "precious" and link.is_symlink()
+
+
+def _disk_full(monkeypatch) -> None:
+    def full(fd: int) -> None:
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(os, "fsync", full)
+
+
+def test_a_full_disk_is_one_line_and_the_old_file_survives(capsys, tmp_path, monkeypatch):
+    screenshot = tmp_path / "shot.png"
+    screenshot.write_bytes(b"old picture")
+    _disk_full(monkeypatch)
+    err = _one_line_error(capsys, ["play", "--screenshot", str(screenshot), "--ticks", "2"])
+    assert "no space left" in err
+    assert screenshot.read_bytes() == b"old picture"
+    assert [p.name for p in tmp_path.iterdir()] == ["shot.png"]  # no temporary file left
+    report = tmp_path / "r.csv"
+    assert "no space left" in _one_line_error(
+        capsys, ["run", "--ticks", "3", "--report", str(report)])
+    assert not report.exists()
+
+
+def test_an_update_that_cannot_be_written_leaves_the_replay_as_it_was(capsys, tmp_path,
+                                                                      monkeypatch):
+    path = tmp_path / "game.json"
+    text = (ROOT / "replays" / "cannon-death.json").read_text()
+    lines = text.splitlines(keepends=True)
+    path.write_text(lines[0] + lines[1] + lines[2].replace('"score":0', '"score":1'))
+    _disk_full(monkeypatch)
+    assert main(["replay", "--update", str(path)]) == 2
+    assert "no space left" in capsys.readouterr().err
+    assert path.read_text().count("\n") == 3 and '"score":1' in path.read_text()
+
+
+def test_a_picture_must_be_a_png(capsys, tmp_path):
+    assert "must end in .png" in _one_line_error(
+        capsys, ["play", "--screenshot", str(tmp_path / "x.txt"), "--ticks", "1"])
+
+
+@pytest.mark.parametrize("kind", ["pipe", "device-link"])
+def test_a_pipe_or_a_device_is_refused_at_once_not_read(capsys, tmp_path, kind):
+    path = tmp_path / "game.json"
+    if kind == "pipe":
+        os.mkfifo(path)  # opening it for reading would block forever
+    else:
+        path.symlink_to("/dev/zero")  # reading it would never end
+    start = time.monotonic()
+    assert main(["replay", str(path)]) == 2
+    assert "not a regular file" in capsys.readouterr().err
+    assert time.monotonic() - start < 5
+
+
+def test_a_file_name_too_long_is_one_line(capsys):
+    assert main(["replay", "y" * 300 + ".json"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "too long" in err
+
+
+def test_an_internal_error_is_one_line_and_exit_3_and_debug_shows_it(capsys, monkeypatch):
+    def broken(args) -> int:
+        raise RuntimeError("a\nbug")
+
+    monkeypatch.setitem(cli.COMMANDS, "run", broken)
+    assert main(["run"]) == 3
+    err = capsys.readouterr().err
+    assert err.startswith("invaders: internal error: RuntimeError: a bug")
+    assert "--debug" in err and len(err.strip().splitlines()) == 1
+    assert main(["run", "--debug"]) == 3
+    assert "Traceback" in capsys.readouterr().err
+
+
+def test_an_internal_error_names_the_replay_being_checked(capsys, monkeypatch):
+    import invaders.app.replay_check as replay_check
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("boom")
+
+    monkeypatch.setattr(replay_check, "run", broken)
+    path = ROOT / "replays" / "invasion.json"
+    assert main(["replay", str(path)]) == 3
+    assert f"while processing {path}: ZeroDivisionError: boom" in capsys.readouterr().err
+
+
+SIGNALS = [(signal.SIGINT, 130), (signal.SIGTERM, 143), (signal.SIGHUP, 129)]
+
+
+@pytest.mark.parametrize("signum, code", SIGNALS, ids=lambda v: str(v))
+def test_a_signal_stops_a_recording_run_on_a_whole_tick_and_saves_it(tmp_path, signum, code):
+    rng = random.Random(signum)
+    for attempt in range(2):
+        path = tmp_path / f"run{attempt}.json"
+        proc = subprocess.Popen([INVADERS, "run", "--autopilot", "--ticks", "100000000",
+                                 "--record", str(path)], env=ENV, stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True)
+        time.sleep(1.0 + rng.random() * 1.5)  # a random moment, well into the game
+        proc.send_signal(signum)
+        _, err = proc.communicate(timeout=60)
+        assert proc.returncode == code, err
+        assert f"saved {path}" in err and len(err.strip().splitlines()) == 1
+        replay = load(path)
+        assert replay.ticks > 0
+        assert run(replay)[0].mismatch is None
+        assert main(["replay", str(path)]) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run0.json", "run1.json"]
+
+
+def test_a_stale_temporary_file_is_cleaned_at_the_next_save(tmp_path):
+    stale = tmp_path / ".game.json.abc123.tmp"
+    stale.write_text("left by a kill")
+    assert main(["run", "--ticks", "70", "--record", str(tmp_path / "game.json")]) == 0
+    assert [p.name for p in tmp_path.iterdir()] == ["game.json"]
+
+
+def test_the_summary_medians_and_totals_are_exact_from_value_counts():
+    rng = random.Random(3)
+    table = CounterTable()
+    rows = [CollisionStats(*(rng.randrange(6) for _ in STAT_FIELDS)) for _ in range(501)]
+    for row in rows:
+        table.add(row)
+    for i, name in enumerate(STAT_FIELDS):
+        column = [row[i] for row in rows]
+        assert table.medians()[name] == statistics.median(column)
+        assert table.totals()[name] == sum(column)
+    table.add(CollisionStats())  # an even count: the mean of the middle two
+    assert table.medians()["objects"] == statistics.median([r[0] for r in rows] + [0])
+
+
+def test_memory_stays_flat_over_a_long_headless_run():
+    script = textwrap.dedent("""
+        import os
+        os.environ["SDL_VIDEODRIVER"] = "dummy"
+        from invaders.app.headless import Idle, run
+        from invaders.game.world import World
+
+        def rss():
+            with open("/proc/self/statm") as f:
+                return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+        TICKS = 150_000
+        seen = {}
+
+        class Watch(Idle):
+            def actions(self, world):
+                if world.tick in (TICKS // 10, TICKS - 1):
+                    seen[world.tick] = rss()
+                return 8 if world.tick % 50 == 0 else 0  # keeps starting new games
+
+        run(World(seed=1), Watch(), TICKS)
+        print(seen[TICKS // 10], seen[TICKS - 1])
+    """)
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                            timeout=300, env=ENV, check=True)
+    early, late = map(int, result.stdout.split())
+    assert late - early < 3 * 2**20, (early, late)  # a per-tick list would add ~10 MB
+
+
+def test_hostile_files_are_refused_in_bounded_time_and_memory(tmp_path):
+    """Each in a process of its own with 1 GiB of address space at most."""
+    header = (ROOT / "replays" / "cannon-death.json").read_text().splitlines()[0]
+    files = {
+        "digits.json": header.replace('"seed":1', '"seed":' + "9" * 1_000_000) + "\n",
+        "runs.json": header + "\n" + '{"inputs":[' + ",".join(["[0,1]"] * 3_000_000)
+                     + '],"checkpoint":{}}\n',
+        "nested.json": "[" * 200_000 + "]" * 200_000 + "\n",
+        "big.json": " " * (64 * 2**20 + 1),
+    }
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    limit = textwrap.dedent(f"""
+        import resource, sys
+        resource.setrlimit(resource.RLIMIT_AS, ({2**30}, {2**30}))
+        from invaders.app.cli import main
+        sys.exit(main(["replay", *sys.argv[1:]]))
+    """)
+    for name in files:
+        start = time.monotonic()
+        result = subprocess.run([sys.executable, "-c", limit, str(tmp_path / name)],
+                                capture_output=True, text=True, timeout=60, env=ENV,
+                                check=False)
+        assert result.returncode == 2, (name, result.stderr[-300:])
+        assert len(result.stderr.strip().splitlines()) == 1, (name, result.stderr[-300:])
+        assert time.monotonic() - start < 30, name
+    assert Counter(p.suffix for p in tmp_path.iterdir()) == {".json": 4}
