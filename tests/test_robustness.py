@@ -249,3 +249,43 @@ def test_hostile_files_are_refused_in_bounded_time_and_memory(tmp_path):
         assert len(result.stderr.strip().splitlines()) == 1, (name, result.stderr[-300:])
         assert time.monotonic() - start < 30, name
     assert Counter(p.suffix for p in tmp_path.iterdir()) == {".json": 4}
+
+
+def test_saving_a_recording_costs_the_same_late_in_a_game_as_early(tmp_path):
+    from invaders.app.recording import Recorder
+    from invaders.game.world import World
+    from invaders.lab.autopilot import Autopilot
+
+    path = tmp_path / "long.json"
+    world = World(seed=2)
+    pilot = Autopilot(2)
+    recorder = Recorder(world, path, save_every=10**9)  # saved only when asked
+    grown = []
+    for until in (1_200, 1_380, 30_000, 30_180):
+        while world.tick < until:
+            bits = pilot.actions(world)
+            world.step(bits)
+            recorder.tick(bits)
+        before = path.stat().st_size if path.exists() else 0
+        recorder.save()
+        grown.append(path.stat().st_size - before)
+    # 180 ticks (three checkpoints' lines) appended early and late: about the same bytes,
+    # and far fewer than the whole file, which is not rewritten.
+    assert 0.5 < grown[3] / grown[1] < 2
+    assert grown[3] < path.stat().st_size / 50
+    assert run(load(path))[0].mismatch is None
+
+
+def test_a_signal_ends_a_recorded_window_game_with_its_code_and_a_valid_file(tmp_path):
+    path = tmp_path / "played.json"
+    proc = subprocess.Popen([INVADERS, "play", "--record", str(path), "--seed", "3"],
+                            env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while not (path.exists() and path.read_text().count("\n") >= 4):  # 3 checkpoints saved
+        assert time.monotonic() < deadline, "the recording never started"
+        time.sleep(0.2)
+    proc.send_signal(signal.SIGTERM)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 143, err
+    assert f"saved {path}" in out and "stopped by SIGTERM" in err
+    assert run(load(path))[0].mismatch is None
