@@ -7,6 +7,7 @@ from invaders.game import art
 from invaders.game.actions import Action
 from invaders.game.entities import Bomb, BombType
 from invaders.game.events import Event
+from invaders.game.kinds import Kind
 from invaders.game.world import World
 from tests.helpers import active_world, mask_rows, step_until
 
@@ -21,7 +22,7 @@ AFTER_SHOT = (
     "######################",
     "######################",
     "#####.###.##.#########",
-    "#######.####.#########",
+    "#######.###.##########",
     "######......##########",
     "#####........#########",
     "#####........#########",
@@ -75,37 +76,39 @@ def _drop_bomb(world: World, btype: BombType, x: int, y: int) -> Bomb:
 
 
 def _fall_until_shield_hit(world: World, bomb: Bomb, bunker) -> tuple[int, int, int, object]:
-    """Step until the bomb hits a shield; its x, y and picture frame at the start of that
-    tick (it steps, then is tested), and the tick's report."""
+    """Step until the bomb hits a shield; where it was drawn that tick (it steps, is drawn,
+    and only then tested, as the original does), its picture frame, and the tick's report."""
     while True:
-        x, y, frame = bomb.x, bomb.y, bomb.frame
         report = world.step(0)
         if Event.BUNKER_HIT in report.events:
-            return x, y, (frame + 1) % 4, report
+            (contact,) = [c for c in report.contacts if bomb.id in (c.a_id, c.b_id)]
+            assert {contact.a_kind, contact.b_kind} == {Kind.BOMB, Kind.BUNKER}
+            if contact.a_id == bomb.id:
+                return contact.ax, contact.ay, bomb.frame, report
+            return contact.bx, contact.by, bomb.frame, report
         assert bomb.alive and bomb.y < bunker.y + bunker.h, "the bomb went through"
 
 
-def _expected_after_bomb(rows, picture, x, y0, y1):
-    """First row between y0 and y1 (inclusive) at which the picture touches, and the result."""
-    for y in range(y0, y1 + 1):
-        if _touches(rows, picture, x, y):
-            return y, _erase(_erase(rows, picture, x, y), art.BOMB_BURST, x - 2, y + 2)
-    raise AssertionError("never touches")
+def _after_bomb(rows, picture, x: int, y: int):
+    """The shield after a bomb drawn at (x, y): its own picture erased, then its burst at
+    (x - 2, y + 2) (the original's 6x8 burst at Xr-2, Yr-2)."""
+    return _erase(_erase(rows, picture, x, y), art.BOMB_BURST, x - 2, y + 2)
 
 
-def test_a_bomb_erases_its_image_at_first_contact_then_its_burst_shape():
+def test_a_bomb_erases_its_image_where_it_was_drawn_then_its_burst_shape():
     world = _quiet_world()
     bunker = world.bunkers[1]
     bomb = _drop_bomb(world, BombType.PLUNGER, bunker.x + 10, bunker.y - 17)
     x, y, frame, report = _fall_until_shield_hit(world, bomb, bunker)
     picture = art.BOMB_PLUNGER[frame]
-    hit_y, expected = _expected_after_bomb(art.BUNKER, picture, x - bunker.x, y - bunker.y,
-                                           y + 4 - bunker.y)
-    assert report.contacts[0].by == bunker.y + hit_y
-    assert mask_rows(bunker.mask) == expected
+    assert _touches(art.BUNKER, picture, x - bunker.x, y - bunker.y)  # where it landed
+    assert not _touches(art.BUNKER, picture, x - bunker.x, y - 4 - bunker.y)  # not before
+    assert report.contacts[0].time == 1  # a landing entry: tested where it is drawn
+    assert mask_rows(bunker.mask) == _after_bomb(art.BUNKER, picture, x - bunker.x,
+                                                 y - bunker.y)
 
 
-def test_a_bomb_cannot_slip_past_a_one_pixel_remnant():
+def test_a_bomb_on_a_remnant_is_judged_where_it_lands():
     world = _quiet_world()
     bunker = world.bunkers[2]
     bunker.mask.clear()
@@ -115,9 +118,24 @@ def test_a_bomb_cannot_slip_past_a_one_pixel_remnant():
     bomb = _drop_bomb(world, BombType.SQUIGGLY, bunker.x + 8, bunker.y - 12)
     x, y, frame, _ = _fall_until_shield_hit(world, bomb, bunker)
     picture = art.BOMB_SQUIGGLY[frame]
-    _, expected = _expected_after_bomb(rows, picture, x - bunker.x, y - bunker.y,
-                                       y + 4 - bunker.y)
-    assert mask_rows(bunker.mask) == expected
+    assert _touches(rows, picture, x - bunker.x, y - bunker.y)
+    assert mask_rows(bunker.mask) == _after_bomb(rows, picture, x - bunker.x, y - bunker.y)
+
+
+def test_one_bomb_on_a_fresh_shield_removes_11_to_29_pixels_4_to_8_rows_deep():
+    craters = []
+    for btype in BombType:
+        for offset in range(2, 18, 3):
+            world = _quiet_world()
+            bunker = world.bunkers[3]
+            before = bunker.mask.count()
+            bomb = _drop_bomb(world, btype, bunker.x + offset, bunker.y - 20)
+            _fall_until_shield_hit(world, bomb, bunker)
+            lost_rows = [y for y in range(bunker.h)
+                         if mask_rows(bunker.mask)[y] != art.BUNKER[y]]
+            craters.append((before - bunker.mask.count(), len(lost_rows)))
+    assert all(11 <= pixels <= 29 and 4 <= depth <= 8 for pixels, depth in craters), craters
+    assert len({pixels for pixels, _ in craters}) > 1  # the crater depends on type and place
 
 
 def test_a_low_alien_clears_its_whole_16x16_footprint():

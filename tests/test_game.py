@@ -4,13 +4,16 @@ from __future__ import annotations
 
 import itertools
 
+import pytest
+
 from invaders.game import bombs
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG
 from invaders.game.entities import Bomb, BombType, CannonState, Shot
 from invaders.game.events import Event
-from invaders.game.saucer import score_for
+from invaders.game.saucer import launch, score_for
 from invaders.game.world import Phase, World
+from invaders.lab.autopilot import Autopilot
 from tests.helpers import active_world, step_until
 
 G = DEFAULT_CONFIG.geometry
@@ -63,10 +66,14 @@ def test_an_invasion_ends_the_game_with_ships_left():
     world = active_world()
     _quiet(world)
     world.rack.ref_top = G.invasion_top  # the next draw lands in the cannon's rows
-    report = step_until(world, lambda r: Event.GAME_OVER in r.events, limit=60)
-    assert Event.INVASION in report.events
+    landed = step_until(world, lambda r: Event.INVASION in r.events, limit=60)
+    # The cannon is blown up first: its whole death animation, then GAME OVER (1971, 16E6).
+    assert Event.CANNON_HIT in landed.events and world.cannon.state is CannonState.EXPLODING
+    assert world.phase is Phase.PLAYING
+    over = step_until(world, lambda r: Event.GAME_OVER in r.events, limit=200)
+    assert over.tick - landed.tick == DEFAULT_CONFIG.timing.cannon_death
     assert world.phase is Phase.GAME_OVER
-    assert world.ships == 3
+    assert world.ships == 3 and Event.SHIP_LOST not in over.events
 
 
 def test_the_cannon_moves_one_pixel_a_tick_within_its_limits():
@@ -207,3 +214,91 @@ def test_the_first_tick_reports_the_first_wave_starting():
     first = world.step(0)
     assert first.tick == 0 and Event.WAVE_STARTED in first.events
     assert Event.WAVE_STARTED not in world.step(0).events  # once
+
+
+def test_after_a_kill_fire_is_refused_until_the_aliens_explosion_ends():
+    world = active_world()
+    _quiet(world)
+    for _ in range(36):  # shot at x 60: between two shields, under the third column's alien
+        world.step(int(Action.RIGHT))
+    world.step(int(Action.FIRE))
+    killed = step_until(world, lambda r: Event.ALIEN_KILLED in r.events, limit=100).tick
+    first_shot = None
+    while first_shot is None:  # release, press, release, press...
+        world.step(0)
+        report = world.step(int(Action.FIRE))
+        if Event.SHOT_FIRED in report.events:
+            first_shot = report.tick
+    # Presses fall on every other tick from killed + 2: the one at killed + 16, when the
+    # 16-tick explosion has just ended, is the first that fires (a 15-tick lockout).
+    assert first_shot == killed + DEFAULT_CONFIG.timing.alien_explosion
+
+
+def test_alien_fire_goes_on_during_an_aliens_explosion():
+    world = World(seed=3)
+    pilot = Autopilot(3)
+    fired_in_explosion = 0
+    for _ in range(6000):
+        exploding = world.alien_exploding
+        report = world.step(pilot.actions(world))
+        fired_in_explosion += exploding and Event.BOMB_FIRED in report.events
+    assert fired_in_explosion > 0
+
+
+@pytest.mark.parametrize("cannon_x, column", [(G.cannon_min_x, 0), (G.cannon_max_x, 10)])
+def test_the_aimed_bomb_drops_from_the_edge_column_when_the_cannon_is_beyond_the_rack(
+        cannon_x, column):
+    world = active_world()
+    rack = world.rack
+    rack.ref_x = 60 if column == 0 else 8  # the rack clear of the cannon's column
+    slot = world.slots[BombType.ROLLING]
+    assert bombs.choose_column(slot, world.config, cannon_x + 8, rack) == column
+
+
+def test_the_rolling_bomb_skips_an_attempt_after_each_of_its_bombs():
+    world = active_world()
+    slot = world.slots[BombType.ROLLING]
+    slot.skip_next = False
+    slot.bomb = Bomb(world.store.new_id(), BombType.ROLLING, 50, 50)
+    bombs.start_burst(slot, 50, 50, 3)
+    assert slot.skip_next
+    plunger = world.slots[BombType.PLUNGER]
+    bombs.start_burst(plunger, 50, 50, 3)
+    assert not plunger.skip_next
+
+
+def test_the_step_counter_stands_still_during_a_burst():
+    world = active_world()
+    slot = world.slots[BombType.PLUNGER]
+    bombs.start_burst(slot, 50, 50, 3)
+    slot.steps = 7
+    while slot.burst:
+        world.step(0)
+    assert slot.steps == 7
+
+
+def test_the_first_saucer_of_a_wave_starts_at_the_left_moving_right():
+    world = active_world()
+    assert world.shots_removed == 0
+    ship = saucer_launch(world)
+    assert (ship.x, ship.dx) == (G.saucer_start_left, DEFAULT_CONFIG.speeds.saucer)
+
+
+def test_the_cannon_and_bombs_keep_running_in_the_pause_after_a_cleared_wave():
+    world = active_world()
+    _quiet(world)
+    bomb = Bomb(world.store.new_id(), BombType.PLUNGER, 100, 100)
+    world.store.add(bomb)
+    world.slots[BombType.PLUNGER].bomb = bomb
+    for alien in list(world.rack.live_aliens()):
+        world.rack.kill(alien, world.store)
+    step_until(world, lambda r: Event.WAVE_CLEARED in r.events, limit=5)
+    x0, y0 = world.cannon.x, bomb.y
+    for _ in range(6):
+        world.step(int(Action.RIGHT))
+    assert world.phase is Phase.WAVE_END
+    assert world.cannon.x == x0 + 6 and bomb.y > y0
+
+
+def saucer_launch(world: World):
+    return launch(world.saucer, world.store, world.config)

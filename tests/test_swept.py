@@ -25,6 +25,8 @@ def _close(detector: Detector, shot_speed: int, bomb_speed: int, column: int, ga
            btype: BombType, frame: int) -> int | None:
     """Move a shot up and a bomb down until they have passed; the tick they met, or None."""
     bomb = Body(1, Kind.BOMB, 100, 60, BOMB_MASKS[btype][frame])
+    lit = [c for c in range(bomb.w) if any(bomb.mask.get_at((c, y)) for y in range(bomb.h))]
+    column = lit[column % len(lit)]  # a column the picture lights
     shot = Body(2, Kind.SHOT, 100 + column, bomb.y + bomb.h + gap, art.mask_of(art.SHOT))
     for tick in range(1, 200):
         for body, dy in ((shot, -shot_speed), (bomb, bomb_speed)):

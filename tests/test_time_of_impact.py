@@ -68,6 +68,11 @@ def _drop(world: World, btype: BombType, x: int, y: int, frame: int = 0) -> Bomb
     return bomb
 
 
+def _bottom(frame: int) -> int:
+    """The lowest lit row of a rolling-bomb picture's middle column."""
+    return max(_lit_rows(BOMB_MASKS[BombType.ROLLING][frame], 1))
+
+
 def _pairs(contacts) -> list[tuple[Fraction, Kind, Kind]]:
     return [(c.time, Kind(c.a_kind), Kind(c.b_kind)) for c in contacts]
 
@@ -75,7 +80,7 @@ def _pairs(contacts) -> list[tuple[Fraction, Kind, Kind]]:
 def test_a_shot_meeting_a_bomb_then_an_alien_bursts_with_the_bomb_and_the_alien_lives():
     world, capture, alien, x, low = _scene(turn=1)  # the rolling bomb does not move
     _fire(world, x, low + 4)  # rises 4: its top reaches the alien's lowest lit row at the end
-    bomb = _drop(world, BombType.ROLLING, x - 1, low - 4, frame=3)  # lowest row lit: low + 3
+    bomb = _drop(world, BombType.ROLLING, x - 1, low + 3 - _bottom(3), frame=3)  # lowest: low+3
     report = world.step(0)
     assert _pairs(capture.found) == [(Fraction(1, 4), Kind.SHOT, Kind.BOMB),
                                      (Fraction(1), Kind.ALIEN, Kind.SHOT)]
@@ -154,7 +159,7 @@ def test_of_two_bombs_reaching_the_cannon_in_one_tick_the_earlier_kills_it_the_o
 def test_contacts_at_the_same_time_go_by_ids():
     world, capture, alien, x, low = _scene(turn=1)
     _fire(world, x, low + 4)
-    bomb = _drop(world, BombType.ROLLING, x - 1, low - 7, frame=3)  # lowest lit row: low
+    bomb = _drop(world, BombType.ROLLING, x - 1, low - _bottom(3), frame=3)  # its lowest: low
     report = world.step(0)
     assert [t for t, *_ in _pairs(capture.found)] == [Fraction(1), Fraction(1)]
     assert alien.id < bomb.id

@@ -21,7 +21,7 @@ class BombSlot:
     burst_x: int = 0
     burst_y: int = 0
     table_index: int = 0  # plunger and squiggly column cycles
-    skip_next: bool = False  # rolling skips its first attempt after each reset
+    skip_next: bool = False  # rolling skips its next attempt after each reset (04AB)
 
     @property
     def busy(self) -> bool:
@@ -52,8 +52,10 @@ def choose_column(slot: BombSlot, config: GameConfig, cannon_centre: int, rack: 
     """The 0-based column this attempt fires from, or None; advances the table cycles."""
     rules = config.rules
     if slot.btype is BombType.ROLLING:
+        # The aimed column is clamped on both sides (0625-062C): with the cannon beyond
+        # either edge of the rack the bomb still drops from the edge column.
         col = (cannon_centre - rack.ref_x) // config.geometry.cell
-        return col if 0 <= col < config.geometry.cols else None
+        return min(max(col, 0), config.geometry.cols - 1)
     table = rules.plunger_columns if slot.btype is BombType.PLUNGER else rules.squiggly_columns
     col = table[slot.table_index] - 1
     slot.table_index = (slot.table_index + 1) % len(table)
@@ -82,9 +84,17 @@ def advance(slot: BombSlot, speed: int, store: BodyStore) -> None:
     store.move(bomb, bomb.x, bomb.y + speed)
 
 
+def finish(slot: BombSlot) -> None:
+    """The slot's bomb is gone. The rolling bomb's object is reset after each of its bombs,
+    and a reset rolling bomb skips its next firing attempt (04AB)."""
+    slot.bomb = None
+    if slot.btype is BombType.ROLLING:
+        slot.skip_next = True
+
+
 def start_burst(slot: BombSlot, x: int, y: int, steps: int) -> None:
     """The bomb is gone; its burst picture stays `steps` bomb-steps at (x, y)."""
-    slot.bomb = None
+    finish(slot)
     slot.burst = steps
     slot.burst_x = x
     slot.burst_y = y

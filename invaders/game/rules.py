@@ -103,8 +103,9 @@ def make_rules(config: GameConfig) -> RuleTable:
                  "shot and bomb close at up to 9 px a tick: discrete tests would let them pass"),
         PairRule(Kind.CANNON, Kind.BOMB, M, M, S, None, True, True, cannon_bomb,
                  "bombs kill the cannon; a bomb's 1-px side columns step 4-5 px"),
-        PairRule(Kind.BOMB, Kind.BUNKER, M, M, S, None, True, False, bomb_bunker,
-                 "bombs erode shields, whose eroded edges can be 1 px thin"),
+        PairRule(Kind.BOMB, Kind.BUNKER, M, M, L, None, True, False, bomb_bunker,
+                 "the original moves a bomb, draws it, then tests where it landed (05E5-05FF): "
+                 "a bomb may jump a thin remnant, and its crater is where it was drawn"),
         PairRule(Kind.BUNKER, Kind.ALIEN, M, B, L, None, False, False, alien_bunker,
                  "low aliens clear their 16x16 draw footprint where it lands, chewing the "
                  "shields"),

@@ -19,7 +19,7 @@ class SaucerState:
     hit_steps: int = 0  # > 0 while the explosion, then the score, is shown
     hit_x: int = 0
     hit_score: int = 0
-    from_left: bool = False
+    from_left: bool = True  # before any shot has finished, it starts at the left (x 9)
 
     @property
     def busy(self) -> bool:

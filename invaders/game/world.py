@@ -109,6 +109,7 @@ class World:
     # --- game and wave set-up ------------------------------------------------------------
     def _new_game(self) -> None:
         self.score = 0
+        self.invaded = False
         self.ships = self.config.rules.ships
         self.extra_awarded = False
         self.games += 1
@@ -156,6 +157,11 @@ class World:
         if self.phase is Phase.PLAYING:
             self._move(actions, fire_pressed)
         elif self.phase is Phase.WAVE_END:
+            # During the pause after a cleared wave the cannon and the bombs still in the air
+            # keep running (0A3C); nothing new is fired from an empty rack.
+            self._move_shot()
+            self._move_cannon(actions, fire_pressed)
+            self._projectile_turn()
             self.phase_timer -= 1
             if self.phase_timer <= 0:
                 self._start_wave(self.wave + 1)
@@ -181,16 +187,22 @@ class World:
         if self.cannon.state is CannonState.ACTIVE and not self.alien_exploding:
             alien = self.rack.step(self.store)
             if alien is not None and alien.top >= self.config.geometry.invasion_top:
+                # The cannon is blown up first, then the game is over (1971 -> 16E6).
                 self.events.append(Event.INVASION)
-                self._game_over()
+                self.invaded = True
+                self.kill_cannon()
                 return
+        self._projectile_turn()
+        saucer.count_down(self.saucer, self.config, self.rack.ref_top)
+
+    def _projectile_turn(self) -> None:
+        """The bomb type (or the saucer) whose turn this tick is."""
         turn = self.tick % 3
         slot = self.slots[turn]
         if turn == BombType.SQUIGGLY and (self.saucer.saucer or self.saucer.hit_steps):
             self._saucer_turn()
         else:
             self._bomb_turn(slot)
-        saucer.count_down(self.saucer, self.config, self.rack.ref_top)
 
     def _move_cannon(self, actions: int, fire_pressed: bool) -> None:
         cannon = self.cannon
@@ -205,6 +217,9 @@ class World:
         if cannon.state is CannonState.EXPLODING:
             cannon.timer -= 1
             if cannon.timer <= 0:
+                if self.invaded:  # the rack landed: no ship is lost, the game is over
+                    self._game_over()
+                    return
                 self.ships -= 1
                 self.events.append(Event.SHIP_LOST)
                 if self.ships <= 0:
@@ -221,7 +236,10 @@ class World:
             x = min(max(cannon.x + dx * self.config.speeds.cannon, g.cannon_min_x), g.cannon_max_x)
             if x != cannon.x:
                 self.store.move(cannon, x, cannon.y)
-        if fire_pressed and self.shot is None and not self.shot_bursting:
+        # The shot stays busy through an alien's explosion: fire is refused until it ends
+        # (1512, 1626).
+        if (fire_pressed and self.shot is None and not self.shot_bursting
+                and not self.alien_exploding):
             self.shot = Shot(self.store.new_id(), cannon.x + 8, g.shot_spawn_top)
             self.store.add(self.shot)
             self.events.append(Event.SHOT_FIRED)
@@ -245,8 +263,7 @@ class World:
                 self._bomb_hits_ground(slot)
             return
         if slot.burst > 0:
-            slot.burst -= 1
-            slot.steps += 1
+            slot.burst -= 1  # the step counter stands still during a burst (05CA)
             return
         if slot.btype is BombType.SQUIGGLY and self.saucer.due:
             if self.rack.live >= cfg.rules.saucer_min_aliens:
@@ -259,7 +276,8 @@ class World:
 
     def _try_fire(self, slot: bombs.BombSlot) -> None:
         cfg = self.config
-        if self.alien_fire_timer != 0 or self.alien_exploding or self.rack.live == 0:
+        # Alien fire does not look at an alien's explosion (0563-05C0): only the rack waits.
+        if self.alien_fire_timer != 0 or self.rack.live == 0:
             return
         if slot.btype is BombType.PLUNGER and self.rack.live < cfg.rules.plunger_min_aliens:
             return
@@ -350,7 +368,7 @@ class World:
     def remove_bomb(self, bomb: Bomb) -> None:
         """A bomb that hit the cannon just goes (the cannon's explosion is the picture)."""
         self.store.remove(bomb)
-        self.slots[bomb.btype].bomb = None
+        bombs.finish(self.slots[bomb.btype])
 
     def kill_alien(self, alien: Alien) -> None:
         self.rack.kill(alien, self.store)
@@ -420,7 +438,7 @@ class World:
             "game": (self.seed, self.tick, int(self.phase), self.phase_timer, self.score,
                      self.hi_score, self.ships, self.extra_awarded, self.wave, self.games,
                      self.fire_was_down, self.alien_fire_timer, self.shots_removed,
-                     self.store.next_id),
+                     self.store.next_id, self.invaded),
             "rack": (rack.ref_x, rack.ref_top, rack.dx, rack.frame, rack.cursor, rack.live,
                      tuple((a.id, a.x, a.y, a.frame) if a is not None else None
                            for a in rack.aliens)),
