@@ -11,6 +11,7 @@ from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG
 from invaders.game.entities import Bomb, BombType, CannonState, Shot
 from invaders.game.events import Event
+from invaders.game.kinds import Kind
 from invaders.game.saucer import launch, score_for
 from invaders.game.world import Phase, World
 from invaders.lab.autopilot import Autopilot
@@ -48,11 +49,12 @@ def test_the_rack_takes_n_ticks_per_step_for_n_live_aliens():
 
 
 def test_the_rack_steps_two_pixels_and_drops_eight_at_the_edge():
-    world = active_world()
-    _quiet(world)
+    world = World(seed=0)  # from the wave's start: the rack marches during the cannon's wait
     xs, tops = [world.rack.ref_x], [world.rack.ref_top]
     for _ in range(55 * 12):
         world.step(0)
+        if world.alien_fire_timer > 0:
+            _quiet(world)  # nothing falls: no death freezes the rack
         if world.rack.ref_x != xs[-1]:
             xs.append(world.rack.ref_x)
             tops.append(world.rack.ref_top)
@@ -219,7 +221,8 @@ def test_the_first_tick_reports_the_first_wave_starting():
 def test_after_a_kill_fire_is_refused_until_the_aliens_explosion_ends():
     world = active_world()
     _quiet(world)
-    for _ in range(36):  # shot at x 60: between two shields, under the third column's alien
+    target = world.rack.aliens[2].x + 7  # the bottom alien of column 3, between two shields
+    for _ in range(target - 8 - world.cannon.x):
         world.step(int(Action.RIGHT))
     world.step(int(Action.FIRE))
     killed = step_until(world, lambda r: Event.ALIEN_KILLED in r.events, limit=100).tick
@@ -302,3 +305,47 @@ def test_the_cannon_and_bombs_keep_running_in_the_pause_after_a_cleared_wave():
 
 def saucer_launch(world: World):
     return launch(world.saucer, world.store, world.config)
+
+
+def test_the_saucers_side_follows_the_rom_sequence_whatever_the_seed():
+    from invaders.game.saucer import from_left_after
+
+    sides = "".join("0" if from_left_after(n) else "1" for n in range(16))
+    assert sides == "0101110101000110"
+    for seed in (0, 1, 99):
+        world = active_world(seed)
+        world.shot = None
+        sequence = []
+        for _ in range(5):
+            world.shot = Shot(world.store.new_id(), 100, 150)
+            world.store.add(world.shot)
+            world.remove_shot()
+            sequence.append(world.saucer.from_left)
+        assert sequence == [from_left_after(n) for n in range(1, 6)]
+
+
+def test_a_wave_starts_on_an_empty_field_drawn_one_alien_a_tick_and_marches_at_once():
+    world = World(seed=0)
+    assert world.bodies(Kind.ALIEN) == []
+    first_move = None
+    for tick in range(200):
+        world.step(0)
+        if tick < 55:
+            assert len(world.bodies(Kind.ALIEN)) == tick + 1  # one more each tick
+        if first_move is None and world.rack.ref_x != DEFAULT_CONFIG.geometry.rack_left:
+            first_move = tick
+    # The reference alien steps once all 55 are drawn, long before the cannon's wait of
+    # 128 ticks is over; the freeze belongs to the wait after a death only.
+    assert first_move == 54
+    # Alien 0 was drawn again at ticks 55, 110 and 165, each time one 2-px step further.
+    assert world.bodies(Kind.ALIEN)[0].x == DEFAULT_CONFIG.geometry.rack_left + 3 * 2
+
+
+def test_the_rack_waits_while_a_new_cannon_does_after_a_death():
+    world = active_world()
+    world.kill_cannon()
+    step_until(world, lambda r: Event.SHIP_LOST in r.events, limit=100)
+    before = (world.rack.ref_x, world.rack.cursor)
+    for _ in range(DEFAULT_CONFIG.timing.cannon_wait - 1):
+        world.step(0)
+    assert (world.rack.ref_x, world.rack.cursor) == before

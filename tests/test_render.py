@@ -51,3 +51,18 @@ def test_screenshot_writes_a_png_of_the_scaled_window(tmp_path, capsys):
     image = pygame.image.load(str(path))
     assert image.get_size() == (448, 512)
     assert not list(tmp_path.glob(".*"))
+
+
+def test_the_score_bar_is_the_originals_and_the_high_score_waits_for_game_over():
+    from invaders.app.render import hud_texts
+    from invaders.game.world import World
+
+    world = World(seed=0)
+    world.score = 120  # a game under way
+    texts = {message: (x, y) for message, x, y in hud_texts(world)}
+    assert texts["SCORE<1> HI-SCORE SCORE<2>"] == (8, 8)
+    assert texts["0120"] == (24, 24) and texts["0000"] in ((88, 24), (168, 24))
+    assert texts["CREDIT 00"] == (136, 240) and texts["3"] == (8, 240)
+    assert not any(message.startswith("WAVE") for message in texts)
+    world._game_over()
+    assert ("0120", 88, 24) in hud_texts(world)  # now it is the high score

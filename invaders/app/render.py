@@ -98,15 +98,12 @@ class Renderer:
             self._draw_overlay(target, world, report, pairs)
 
     def _draw_hud(self, world: World) -> None:
-        self.text("SCORE<1> HI-SCORE", 8, 8)
-        self.text(f"{world.score:04d}", 24, 24)
-        self.text(f"{max(world.hi_score, world.score):04d}", 88, 24)
-        self.text(f"WAVE {world.wave}", 160, 24)
+        for message, x, y in hud_texts(world):
+            self.text(message, x, y)
         for x in range(SCREEN_W):
             if world.ground.get_at((x, 0)):
                 self.screen.set_at((x, world.config.geometry.ground_row), WHITE)
         ships = max(world.ships, 0)
-        self.text(str(ships), 8, 241)
         cannon = self.sprite(art.CANNON)
         for i in range(min(ships - 1, 6)):
             self.screen.blit(cannon, (24 + 16 * i, 240))
@@ -177,6 +174,20 @@ class Renderer:
             panel.blit(label, (s, y))
             y += label.get_height()
         target.blit(panel, (target.get_width() - width - s, 34 * s))
+
+
+def hud_texts(world: World) -> list[tuple[str, int, int]]:
+    """The score bar and the bottom line as the original lays them out: the header with both
+    players' scores, the high score (which changes only when a game ends, 166D-1695), the
+    ships left, and the credit count; no wave label."""
+    return [
+        ("SCORE<1> HI-SCORE SCORE<2>", 8, 8),
+        (f"{world.score:04d}", 24, 24),
+        (f"{world.hi_score:04d}", 88, 24),
+        ("0000", 168, 24),
+        (str(max(world.ships, 0)), 8, 240),
+        ("CREDIT 00", 136, 240),
+    ]
 
 
 def overlay_lines(tick: int, report: TickReport | None) -> list[str]:

@@ -31,7 +31,7 @@ def summary_lines(result: RunResult, seed: int, broadphase: str, source: str) ->
     ev = result.events
     lines = [
         f"ran {result.table.count} ticks, seed {seed}, broad phase {broadphase}, input {source}",
-        f"score {world.score}  hi-score {max(world.hi_score, world.score)}  "
+        f"score {world.score}  hi-score {world.hi_score}  "
         f"aliens killed {world.aliens_killed}  ships {world.ships}  wave {world.wave}  "
         f"games {world.games}  phase {world.phase.name.lower()}",
         f"events: saucer hits {ev['SAUCER_HIT']}, cannon hits {ev['CANNON_HIT']}, "

@@ -11,9 +11,11 @@ from invaders.game.entities import ALIEN_MASKS, Alien
 class Rack:
     """Aliens sit at (ref_x + 16c, ref_top - 16r) *as of their last draw*.
 
-    The cursor walks live aliens in index order (row * 11 + col, bottom-left first), drawing
+    The cursor walks live aliens in index order (row * cols + col, bottom-left first), drawing
     one per tick; past the last live one the reference alien steps (dx, and 8 down after an
     edge bump) and the picture frame toggles. N live aliens therefore take N ticks a step.
+    A wave starts on an empty field: each alien appears (joins the store) at its first draw,
+    so the first pass of the cursor draws the rack one alien a tick (0141, 1B10).
     """
 
     def __init__(self, config: GameConfig, top: int, store: BodyStore) -> None:
@@ -29,13 +31,13 @@ class Rack:
             row, col = divmod(index, g.cols)
             alien = Alien(store.new_id(), index, row, col, self.ref_x + g.cell * col,
                           top - g.cell * row, 0)
-            store.add(alien)
+            alien.alive = False  # not drawn yet
             self.aliens.append(alien)
         self.live = len(self.aliens)
 
     def live_aliens(self) -> list[Alien]:
-        """Live aliens in index order."""
-        return [a for a in self.aliens if a is not None]
+        """Live aliens on the screen (drawn at least once), in index order."""
+        return [a for a in self.aliens if a is not None and a.alive]
 
     def lowest_in_column(self, col: int) -> Alien | None:
         """The shooter of a column: its lowest live alien, or None if the column is empty."""
@@ -65,6 +67,8 @@ class Rack:
         alien = self.aliens[index]
         assert alien is not None
         row, col = divmod(index, g.cols)
+        if not alien.alive:  # its first draw: it appears where it stands
+            store.add(alien)
         if alien.frame != self.frame:
             alien.frame = self.frame
             store.reshape(alien, ALIEN_MASKS[row][self.frame])

@@ -8,6 +8,16 @@ from invaders.engine.store import BodyStore
 from invaders.game.config import GameConfig
 from invaders.game.entities import Saucer
 
+# Bit 0 of the ROM byte at 0x0800 + the shot count picks the side the next saucer enters from
+# (14.9): 0 the left, 1 the right, the same every game. UNCERTAIN (0800): our notes give the
+# first 16 bits of the sequence; later counts repeat them.
+SIDE_BITS = "0101110101000110"
+
+
+def from_left_after(shots: int) -> bool:
+    """Whether the saucer enters from the left once `shots` shots have finished."""
+    return SIDE_BITS[shots % len(SIDE_BITS)] == "0"
+
 
 @dataclass
 class SaucerState:

@@ -76,10 +76,9 @@ class World:
     ) -> None:
         self.config = config
         self.seed = seed
+        # The game's only generator. The 1978 rules draw nothing from chance (the saucer's
+        # side is a fixed ROM sequence); a rule that ever needs chance draws from this.
         self.rng = random.Random(seed)
-        # UNCERTAIN (13.5): the saucer's side comes from bit 0 of a ROM byte picked by the shot
-        # count, a fixed pseudo-random pattern. We draw such a pattern from the seeded generator.
-        self.saucer_sides = tuple(self.rng.getrandbits(1) for _ in range(256))
         self.rules = make_rules(config)
         self.detector = detector if detector is not None else Detector(
             make_broadphase(broadphase, cell), self.rules)
@@ -142,6 +141,7 @@ class World:
         self.events.append(Event.WAVE_STARTED)
 
     def _cannon_wait(self) -> None:
+        self.respawning = False  # a wave's start (a death sets it after this)
         self.cannon.state = CannonState.WAITING
         self.cannon.timer = self.config.timing.cannon_wait
         self.cannon.x = self.cannon.px = self.config.geometry.cannon_min_x
@@ -184,7 +184,12 @@ class World:
     def _move(self, actions: int, fire_pressed: bool) -> None:
         self._move_shot()
         self._move_cannon(actions, fire_pressed)
-        if self.cannon.state is CannonState.ACTIVE and not self.alien_exploding:
+        # The rack marches while the cannon plays, and during its wait at a wave's start;
+        # only the wait after a cannon's death, and an alien's explosion, freeze it.
+        cannon_state = self.cannon.state
+        marching = cannon_state is CannonState.ACTIVE or (
+            cannon_state is CannonState.WAITING and not self.respawning)
+        if marching and not self.alien_exploding:
             alien = self.rack.step(self.store)
             if alien is not None and alien.top >= self.config.geometry.invasion_top:
                 # The cannon is blown up first, then the game is over (1971 -> 16E6).
@@ -226,6 +231,7 @@ class World:
                     self._game_over()
                 else:
                     self._cannon_wait()
+                    self.respawning = True
                     for slot in self.slots:
                         slot.skip_next = slot.btype is BombType.ROLLING
             return
@@ -346,7 +352,7 @@ class World:
         self.shot = None
         self.shots_removed += 1
         if self.saucer.saucer is None:
-            self.saucer.from_left = bool(self.saucer_sides[self.shots_removed & 0xFF])
+            self.saucer.from_left = saucer.from_left_after(self.shots_removed)
 
     def burst_shot(self, x: int, top: int) -> None:
         """The shot bursts with its 8x8 picture at (x - 3, top - 2), punching shields under it."""
@@ -438,9 +444,9 @@ class World:
             "game": (self.seed, self.tick, int(self.phase), self.phase_timer, self.score,
                      self.hi_score, self.ships, self.extra_awarded, self.wave, self.games,
                      self.fire_was_down, self.alien_fire_timer, self.shots_removed,
-                     self.store.next_id, self.invaded),
+                     self.store.next_id, self.invaded, self.respawning),
             "rack": (rack.ref_x, rack.ref_top, rack.dx, rack.frame, rack.cursor, rack.live,
-                     tuple((a.id, a.x, a.y, a.frame) if a is not None else None
+                     tuple((a.id, a.x, a.y, a.frame, a.alive) if a is not None else None
                            for a in rack.aliens)),
             "cannon": (int(cannon.state), cannon.timer, cannon.x, cannon.y),
             "shot": None if shot is None else (shot.id, shot.x, shot.y),
