@@ -20,6 +20,7 @@ ROM = {  # address: (bytes as hex, the picture the game uses)
     "1C70": ("000401130307b30f2f032f4904030001", art.CANNON_DEATH[0]),
     "1C80": ("400805a30a035b0f27270b4b40841148", art.CANNON_DEATH[1]),
     "1D7C": ("002200a54008983db63c361d104862b61d98084290080000", art.SAUCER_EXPLOSION),
+    "1D64": ("00000000040c1e373e7c747e7e747c3e371e0c0400000000", art.SAUCER),
     "1C91": ("993c7e3dbc3e7c99", art.SHOT_BURST),
     "1CDC": ("4a15be3f5e25", art.BOMB_BURST),
 }

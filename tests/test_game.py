@@ -349,3 +349,24 @@ def test_the_rack_waits_while_a_new_cannon_does_after_a_death():
     for _ in range(DEFAULT_CONFIG.timing.cannon_wait - 1):
         world.step(0)
     assert (world.rack.ref_x, world.rack.cursor) == before
+
+
+def test_with_one_alien_left_the_plunger_finishes_its_bomb_then_fires_no_more():
+    world = active_world()
+    world.alien_fire_timer = 0  # fire on
+    slot = world.slots[BombType.PLUNGER]
+    bomb = Bomb(world.store.new_id(), BombType.PLUNGER, 100, 60)
+    world.store.add(bomb)
+    slot.bomb = bomb
+    for alien in world.rack.live_aliens()[1:]:
+        world.rack.kill(alien, world.store)
+    assert world.rack.live == 1
+    y0 = bomb.y
+    step_until(world, lambda r: slot.bomb is None, limit=600)  # it falls to the end
+    assert bomb.y > y0
+    fired = 0
+    for _ in range(600):
+        before = slot.bomb
+        world.step(0)
+        fired += before is None and slot.bomb is not None
+    assert fired == 0

@@ -1,10 +1,10 @@
 """Sprite bitmaps written as ASCII art ('#' lit), turned into masks and surfaces.
 
-The bombs, the crab, the cannon's death, the saucer's explosion and both bursts are the ROM's
-pictures (decoded from its bytes, one byte a column, bit 7 the top pixel; a test holds them
-to those bytes); the others are drawn at the sizes the reference gives (section 3). What
-matters to the game is each sprite's box, its lit extent and where its pixels are, since
-collision is tested pixel by pixel. No image files are needed.
+The bombs, the crab, the saucer, the cannon's death, the saucer's explosion and both bursts
+are the ROM's pictures (decoded from its bytes, one byte a column, bit 7 the top pixel; a
+test holds them to those bytes); the others are drawn at the sizes the reference gives
+(section 3). What matters to the game is each sprite's box, its lit extent and where its
+pixels are, since collision is tested pixel by pixel. No image files are needed.
 """
 
 from __future__ import annotations
@@ -140,9 +140,16 @@ BOMB_BURST = art(  # ROM @1CDC
     ".#.#.#",
 )
 
-SAUCER = pad(art(
-    ".....######.....", "...##########...", "..############..", ".##.##.##.##.##.",
-    "################", "..###..##..###..", "...#........#...", "................"), 4, 24)
+SAUCER = art(  # ROM @1D64: the lit rows are the box's lower seven
+    "........................",
+    ".........######.........",
+    ".......##########.......",
+    "......############......",
+    ".....##.##.##.##.##.....",
+    "....################....",
+    "......###..##..###......",
+    ".......#........#.......",
+)
 SAUCER_EXPLOSION = art(  # ROM @1D7C
     "...#..#.#......#.#..#...",
     "....#........##....#....",

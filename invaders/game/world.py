@@ -355,7 +355,12 @@ class World:
             self.saucer.from_left = saucer.from_left_after(self.shots_removed)
 
     def burst_shot(self, x: int, top: int) -> None:
-        """The shot bursts with its 8x8 picture at (x - 3, top - 2), punching shields under it."""
+        """The shot bursts with its 8x8 picture at (x - 3, top - 2), punching shields under it.
+
+        The shot's 1x8 box has its 4 lit rows at the bottom (ROM 1C90: 0x0F), so `top - 2` is
+        the original's Yr - 2 for the box (03DF-03F7). UNCERTAIN: a second reading of the
+        listing put this burst 1 px off; ours gives this place, so we keep it.
+        """
         self.remove_shot()
         corner = (x - 3, top - 2)
         self.erode(art.mask_of(art.SHOT_BURST), *corner)
