@@ -101,7 +101,8 @@ def build_parser() -> Parser:
     bench = sub.add_parser("bench", help="time the pipeline against references, as ratios")
     bench.add_argument("--ticks", type=_int_in("--ticks", 60, MAX_TICKS), default=3600)
     bench.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=7)
-    bench.add_argument("--repeat", type=_int_in("--repeat", 1, 100), default=3)
+    bench.add_argument("--rounds", type=_int_in("--rounds", 3, 100), default=10,
+                       help="interleaved rounds; figures are medians over them")
     return parser
 
 
@@ -191,7 +192,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
     from invaders.lab.bench import BenchFailure, bench
 
     try:
-        return bench(ticks=args.ticks, seed=args.seed, repeat=args.repeat)
+        return bench(ticks=args.ticks, seed=args.seed, rounds=args.rounds)
     except BenchFailure as err:
         print(f"invaders: bench: {err}", file=sys.stderr)
         return 1

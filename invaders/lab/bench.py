@@ -1,17 +1,23 @@
-"""`invaders bench`: timings taken side by side in one run and printed as ratios.
+"""`invaders bench`: medians over interleaved rounds, with their spread, as ratios taken in one
+run. Never run by the tests.
 
-Machines are noisy, so every figure is the best of --repeat runs, and what counts is the
-ratio between methods measured in the same process moments apart, both with the cyclic
-garbage collector paused (as timeit does). Never run by the tests.
+Machines are noisy, so no figure is a best-of: each round runs every contender once, the
+order reversed from one round to the next, with the cyclic garbage collector paused (as
+timeit does); each figure is the median over the rounds with the lowest and highest round
+beside it, each ratio the median of the per-round ratios, and each goal says how many rounds
+missed it. The exit code is 1 when a median misses a goal.
 
-1. Headless ticks per second of one autopilot game, with the grid and with brute force.
-2. Detection per tick on the same recorded frames: our pipeline (as it ran in the game)
-   against `pygame.sprite.groupcollide` with `collide_mask` over the same group pairs,
-   with the contacts compared (contacts only a swept test can find are counted aside).
+1. Headless ticks per second of one autopilot game, with the grid and with brute force, and
+   of the same game replayed from its recorded inputs (checked).
+2. Detection per tick on the same recorded frames: ours played back and ours inside the
+   running game, against `pygame.sprite.groupcollide` over the same group pairs as a naive
+   user writes it (`collide_mask` on every pair) and as a careful one does (rects first, then
+   `collide_mask` on the hits), with the contacts compared.
 """
 
 from __future__ import annotations
 
+import statistics
 import time
 from collections.abc import Sequence
 
@@ -23,7 +29,12 @@ from invaders.game.replay import run as run_replay
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
 from invaders.lab.frames import Frame, play_frames
-from invaders.lab.references import GAME_RULES, groupcollide_frames
+from invaders.lab.references import (
+    GAME_RULES,
+    groupcollide_frames,
+    prepare,
+    rect_then_mask_frames,
+)
 from invaders.lab.runner import FrameRecorder
 from invaders.lab.timing import no_gc
 
@@ -111,60 +122,101 @@ def _body_count(frames: list[Frame]) -> float:
     return sum(sum(len(v) for v in f.bodies.values()) for f in frames) / max(1, len(frames))
 
 
-def bench(ticks: int = 3600, seed: int = 7, repeat: int = 3) -> int:
-    print(f"invaders bench: {ticks}-tick autopilot game, seed {seed}, best of {repeat}")
-    best: dict[str, float] = {}
-    detect_best = float("inf")
-    frames: list[Frame] = []
-    replays: list[Replay] = []
-    for i in range(repeat):
-        for name in ("grid", "brute"):
-            first_grid = name == "grid" and i == 0
-            seconds, timer, recorded = play_game(ticks, seed, name, record=first_grid,
-                                          recorder=replays if first_grid else None)
-            best[name] = min(best.get(name, float("inf")), seconds)
-            if name == "grid":
-                detect_best = min(detect_best, timer.seconds)
-                if recorded:
-                    frames = recorded
-    tps = {name: ticks / s for name, s in best.items()}
-    print("1. headless game")
-    print(f"   grid   {tps['grid']:>10,.0f} ticks/s")
-    speedup = tps["grid"] / tps["brute"]
-    print(f"   brute  {tps['brute']:>10,.0f} ticks/s   grid/brute = {speedup:.2f}x")
-    replay_tps = ticks / min(replay_seconds(replays[0]) for _ in range(repeat))
-    print(f"   replay {replay_tps:>10,.0f} ticks/s   (the same game from its recorded inputs, "
-          f"checked; no autopilot to run)")
-    missed_goals = 0
-    verdict = "met" if tps["grid"] >= TPS_GOAL else "NOT met"
-    missed_goals += verdict != "met"
-    print(f"   goal >= {TPS_GOAL:,} ticks/s with the grid: {verdict}")
+class Rounds:
+    """Per-round figures of each contender: medians and spreads."""
 
-    base_best = replay_best = float("inf")
-    found: list[set[tuple[int, int]]] = []
-    replayed_same = True
-    for _ in range(repeat):
+    def __init__(self) -> None:
+        self.values: dict[str, list[float]] = {}
+
+    def add(self, name: str, value: float) -> None:
+        self.values.setdefault(name, []).append(value)
+
+    def median(self, name: str) -> float:
+        return statistics.median(self.values[name])
+
+    def spread(self, name: str, fmt: str) -> str:
+        values = self.values[name]
+        return f"({format(min(values), fmt)}..{format(max(values), fmt)})"
+
+    def ratios(self, top: str, bottom: str) -> list[float]:
+        return [a / b for a, b in zip(self.values[top], self.values[bottom], strict=True)]
+
+
+def bench(ticks: int = 3600, seed: int = 7, rounds: int = 10) -> int:
+    replays: list[Replay] = []
+    _, _, frames = play_game(ticks, seed, "grid", record=True, recorder=replays)
+    prepared = prepare(frames)
+    n = len(frames)
+    figures = Rounds()
+    found: dict[str, list[set[tuple[int, int]]]] = {}
+    same_contacts = True
+
+    def game(name: str) -> None:
+        seconds, timer, _ = play_game(ticks, seed, name, record=False)
+        figures.add(f"{name} ticks/s", ticks / seconds)
+        if name == "grid":
+            figures.add("live us", 1e6 * timer.seconds / ticks)
+
+    def replay() -> None:
+        figures.add("replay ticks/s", ticks / replay_seconds(replays[0]))
+
+    def ours() -> None:
+        nonlocal same_contacts
         seconds, same = replay_frames(frames, "grid")
-        replay_best = min(replay_best, seconds)
-        replayed_same = replayed_same and same
-        seconds, found = groupcollide_frames(frames)
-        base_best = min(base_best, seconds)
-    live_us = 1e6 * detect_best / len(frames)
-    ours_us = 1e6 * replay_best / len(frames)
-    base_us = 1e6 * base_best / len(frames)
-    both, swept_only, missed = compare(frames, found)
-    ratio = base_us / ours_us
-    print(f"2. detection per tick on the same {len(frames)} recorded frames "
+        same_contacts = same_contacts and same
+        figures.add("ours us", 1e6 * seconds / n)
+
+    def reference(name: str, run) -> None:
+        seconds, found[name] = run(prepared)
+        figures.add(f"{name} us", 1e6 * seconds / n)
+
+    contenders = [lambda: game("grid"), lambda: game("brute"), replay, ours,
+                  lambda: reference("naive", groupcollide_frames),
+                  lambda: reference("careful", rect_then_mask_frames)]
+    for index in range(rounds):
+        for run in contenders if index % 2 == 0 else contenders[::-1]:
+            run()
+
+    print(f"invaders bench: {ticks}-tick autopilot game, seed {seed}, {rounds} interleaved "
+          "rounds: median (lowest..highest round)")
+    missed_goals = 0
+
+    def goal(text: str, per_round: list[float], target: float, extra: bool = True) -> None:
+        nonlocal missed_goals
+        missed = sum(value < target for value in per_round)
+        met = statistics.median(per_round) >= target and extra
+        missed_goals += not met
+        print(f"   goal {text}: {'met' if met else 'NOT met'} ({missed} of {rounds} rounds "
+              "missed)")
+
+    def line(label: str, name: str, unit: str, fmt: str) -> str:
+        return (f"   {label:<44}{format(figures.median(name), fmt):>9} {unit}  "
+                f"{figures.spread(name, fmt)}")
+
+    print("1. headless game")
+    print(line("grid", "grid ticks/s", "ticks/s", ",.0f"))
+    grid_brute = figures.ratios("grid ticks/s", "brute ticks/s")
+    print(line("brute force", "brute ticks/s", "ticks/s", ",.0f")
+          + f"   grid/brute {statistics.median(grid_brute):.2f}x")
+    print(line("replay (its recorded inputs, checked)", "replay ticks/s", "ticks/s", ",.0f"))
+    goal(f"grid >= {TPS_GOAL:,} ticks/s", figures.values["grid ticks/s"], TPS_GOAL)
+    print(f"2. detection per tick on the same {n} recorded frames "
           f"({_body_count(frames):.0f} bodies a frame on average)")
-    print(f"   ours, frames played back (grid, mask-exact, swept) {ours_us:>8.2f} us"
-          f"   (in the live game: {live_us:.2f} us)")
-    print(f"   groupcollide + collide_mask, frames played back    {base_us:>8.2f} us   "
-          f"ours is {ratio:.1f}x faster")
-    if not replayed_same:
-        print("   WARNING: played back, our detector found other contacts than in the game")
+    print(line("ours, frames played back", "ours us", "us", ".2f"))
+    print(line("ours, inside the running game", "live us", "us", ".2f"))
+    for name, label in (("naive", "groupcollide + collide_mask"),
+                        ("careful", "groupcollide rects, then collide_mask")):
+        ratio = figures.ratios(f"{name} us", "ours us")
+        print(line(label, f"{name} us", "us", ".2f")
+              + f"   {statistics.median(ratio):.1f}x ours ({min(ratio):.1f}..{max(ratio):.1f})")
+    both, swept_only, missed = compare(frames, found["naive"])
+    careful_same = found["careful"] == found["naive"]
     print(f"   contacts: {both} found by both, {swept_only} only by our swept tests, "
-          f"{missed} found by groupcollide alone")
-    verdict = "met" if ratio >= DETECT_GOAL and missed == 0 and replayed_same else "NOT met"
-    missed_goals += verdict != "met"
-    print(f"   goal >= {DETECT_GOAL:.0f}x faster with the same contacts: {verdict}")
+          f"{missed} found by groupcollide alone"
+          + ("" if careful_same else "; the careful version found others than the naive"))
+    if not same_contacts:
+        print("   WARNING: played back, our detector found other contacts than in the game")
+    goal(f"ours >= {DETECT_GOAL:.0f}x faster than groupcollide + collide_mask, same contacts",
+         figures.ratios("naive us", "ours us"), DETECT_GOAL,
+         missed == 0 and same_contacts)
     return 1 if missed_goals else 0
