@@ -9,7 +9,6 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import Protocol
 
-from invaders.app.recording import Recorder
 from invaders.app.report import CounterTable, ReportWriter, report_format
 from invaders.atomic import atomic_writer
 from invaders.game.world import World
@@ -19,6 +18,12 @@ def use_dummy_drivers() -> None:
     """Select SDL's dummy video and audio drivers, so nothing needs a display or a sound card."""
     os.environ["SDL_VIDEODRIVER"] = "dummy"
     os.environ["SDL_AUDIODRIVER"] = "dummy"
+
+
+class Recording(Protocol):
+    """What a run hands each tick's input to (a recording.Recorder)."""
+
+    def tick(self, bits: int) -> None: ...
 
 
 class InputSource(Protocol):
@@ -40,7 +45,7 @@ class RunResult:
 
 
 def run(world: World, source: InputSource, ticks: int, report: str | None = None,
-        recorder: Recorder | None = None,
+        recorder: Recording | None = None,
         stop: Callable[[], bool] | None = None) -> RunResult:
     """Step `world` `ticks` times with `source`'s input, or until `stop()` says so (asked
     between ticks); optionally write the per-tick report (atomically: the file appears
