@@ -172,8 +172,8 @@ def cmd_play(args: argparse.Namespace) -> int:
         return play(seed=args.seed, scale=args.scale, broadphase=args.broadphase,
                     overlay=args.overlay, record=args.record, replay=replay, speed=args.speed)
     except pygame.error as err:
-        raise UsageError(f"cannot open a window ({err}); without a display, use "
-                         "'invaders run' or set SDL_VIDEODRIVER=dummy") from None
+        raise UsageError(f"cannot open a window ({err}); without a display, run the game "
+                         "headless with 'invaders run'") from None
 
 
 def cmd_replay(args: argparse.Namespace) -> int:

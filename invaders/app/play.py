@@ -7,6 +7,7 @@ the real windowed code with a fake clock at any frame rate (dummy video driver).
 from __future__ import annotations
 
 import io
+import os
 import sys
 import time
 from collections.abc import Callable, Iterator
@@ -29,6 +30,8 @@ LEFT_KEYS = (pygame.K_LEFT, pygame.K_a)
 RIGHT_KEYS = (pygame.K_RIGHT, pygame.K_d)
 FIRE_KEYS = (pygame.K_SPACE,)
 START_KEYS = (pygame.K_RETURN, pygame.K_KP_ENTER, pygame.K_1)
+FIRE = int(Action.FIRE)
+START = int(Action.START)
 MAX_FPS = 240  # render at the display's pace, but never spin faster than this
 SAVE_EVERY = 180  # ticks between autosaves of a recording (3 s)
 
@@ -59,7 +62,12 @@ class Session:
                                   max_catch_up=5 * speed)
         self.renderer = Renderer(scale)
         self.inputs: Iterator[int] | None = replay.actions() if replay else None
+        self.expected = {c.tick: c.hash for c in replay.checkpoints} if replay else {}
         self.replay_done = False
+        self.first_difference: int | None = None  # the first checkpoint tick that differed
+        self.start_requested = False  # Enter after a replay's end: the caller starts a game
+        self.fire_presses = 0  # fire key-downs not yet given to a tick
+        self.start_pressed = False
         self.recorder = recorder
         self.watch = CandidateWatch()
         self.overlay = False
@@ -83,6 +91,12 @@ class Session:
         if event.type == pygame.KEYDOWN:
             if event.key == pygame.K_ESCAPE:
                 return False
+            if event.key in FIRE_KEYS:
+                self.fire_presses += 1
+            elif event.key in START_KEYS:
+                self.start_pressed = True
+                if self.replay_done:
+                    self.start_requested = True
             if event.key == pygame.K_p:
                 self.paused = not self.paused
                 self.loop.resume()
@@ -97,7 +111,7 @@ class Session:
         for _ in range(ticks):
             if stop is not None and stop():
                 break
-            bits = held
+            bits = self._tick_input(held)
             if self.inputs is not None:
                 bits = next(self.inputs, None)
                 if bits is None:
@@ -105,16 +119,61 @@ class Session:
                     break
             self.report = self.world.step(bits)
             if self.recorder is not None:
-                self.recorder.tick(bits)
+                self.recorder.tick(bits)  # exactly what the tick used
+            digest = self.expected.get(self.world.tick)
+            if (digest is not None and self.first_difference is None
+                    and self.world.state_hash() != digest):
+                self.first_difference = self.world.tick
+        if self.inputs is not None and not self.replay_done and self.world.tick >= max(
+                self.expected, default=0):
+            self.replay_done = next(self.inputs, None) is None
         self.renderer.draw(self.target, self.world, alpha, self.overlay, self.report,
-                           self.watch.pairs,
-                           self.paused)
+                           self.watch.pairs, self.paused, self.replay_verdict())
+
+    def _tick_input(self, held: int) -> int:
+        """This tick's input: the held keys, plus key presses latched from the event queue,
+        so a press and release between two frames still counts, once. A press while the
+        world still sees fire down waits one tick with fire up, so it is a new press."""
+        bits = held
+        if self.start_pressed:
+            bits |= START
+            self.start_pressed = False
+        if self.fire_presses:
+            if self.world.fire_was_down:
+                bits &= ~FIRE
+            else:
+                bits |= FIRE
+                self.fire_presses -= 1
+        return bits
+
+    def replay_verdict(self) -> str | None:
+        """Once a replay has ended, what its check found (None while it plays)."""
+        if not self.replay_done:
+            return None
+        if self.first_difference is None:
+            return "CHECKPOINTS MATCHED"
+        return f"DIFFERS FROM TICK {self.first_difference}"
 
 
-def open_window(scale: int) -> pygame.Surface:
+NO_WINDOW_DRIVERS = ("dummy", "offscreen")
+
+
+def open_window(scale: int, title: str = "invaders") -> pygame.Surface:
+    """A window, or pygame.error if SDL could only find a driver that shows none (it falls
+    back to one silently when there is no display; asking for it by name is allowed)."""
+    asked = os.environ.get("SDL_VIDEODRIVER")
+    if (asked is None and sys.platform.startswith("linux")
+            and not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY")):
+        raise pygame.error("no display: neither DISPLAY nor WAYLAND_DISPLAY is set")
     pygame.display.init()
+    driver = pygame.display.get_driver()
+    if driver in NO_WINDOW_DRIVERS and asked != driver:
+        pygame.display.quit()
+        raise pygame.error(f"no display: SDL fell back to its '{driver}' driver, which "
+                           "shows no window")
     window = pygame.display.set_mode((SCREEN_W * scale, SCREEN_H * scale))
-    pygame.display.set_caption("invaders  (arrows/A D move, space fires, P pause, F3 overlay)")
+    pygame.display.set_caption(f"{title}  (arrows/A D move, space fires, P pause, "
+                               "F3 overlay)")
     return window
 
 
@@ -132,7 +191,8 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool 
     else:
         world = World(seed=seed, broadphase=broadphase)
     recorder = Recorder(world, record, SAVE_EVERY) if record else None
-    window = open_window(scale)
+    title = "invaders" if replay is None else f"invaders: replay at {speed}x"
+    window = open_window(scale, title)
     session = Session(world, window, time.perf_counter, scale, replay, speed, recorder,
                       overlay)
     frame_clock = pygame.time.Clock()
@@ -142,6 +202,12 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool 
                     session.handle(event) for event in pygame.event.get()):
                 session.frame(keyboard_actions(pygame.key.get_pressed()),
                               stop=lambda: signals.received is not None)
+                if session.start_requested:  # Enter at a replay's end: a game of one's own
+                    world = World(seed=seed, broadphase=broadphase)
+                    session = Session(world, window, time.perf_counter, scale,
+                                      overlay=session.overlay)
+                    pygame.display.set_caption("invaders  (arrows/A D move, space fires, "
+                                               "P pause, F3 overlay)")
                 pygame.display.flip()
                 frame_clock.tick(MAX_FPS)
         finally:

@@ -77,7 +77,8 @@ class Renderer:
 
     def draw(self, target: pygame.Surface, world: World, alpha: float = 0.0,
              overlay: bool = False, report: TickReport | None = None,
-             pairs: Sequence[tuple[int, int]] = (), paused: bool = False) -> None:
+             pairs: Sequence[tuple[int, int]] = (), paused: bool = False,
+             replay_verdict: str | None = None) -> None:
         """Paint the world (movers interpolated by `alpha` of a tick) onto `target`; with
         `overlay`, the last tick's cells, candidate `pairs` and counters over it."""
         screen = self.screen
@@ -89,6 +90,9 @@ class Renderer:
             self.text("PRESS ENTER", 68, 168)
         if paused:
             self.text("PAUSED", 88, 152)
+        if replay_verdict is not None:
+            for i, line in enumerate(("REPLAY ENDED", replay_verdict, "ENTER PLAYS  ESC QUITS")):
+                self.text(line, (SCREEN_W - 8 * len(line)) // 2, 88 + 16 * i)
         screen.blit(self.gel, (0, 0), special_flags=pygame.BLEND_RGB_MULT)
         if target.get_size() == screen.get_size():
             target.blit(screen, (0, 0))

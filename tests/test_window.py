@@ -1,0 +1,97 @@
+"""The window as a player meets it, driven through events on SDL's dummy driver: short
+presses are never lost, a replay's end is shown with its verdict, and without a display
+`play` says so in one line instead of running invisibly."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pygame
+
+from invaders.app.play import Session
+from invaders.app.recording import Recorder, record_headless
+from invaders.game.actions import Action
+from invaders.game.world import World
+from invaders.lab.autopilot import Autopilot
+
+FIRE = int(Action.FIRE)
+
+
+class FakeClock:
+    def __init__(self) -> None:
+        self.now = 0.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def _key(kind: int, key: int) -> pygame.event.Event:
+    return pygame.event.Event(kind, key=key, mod=0, unicode="", scancode=0)
+
+
+def test_every_short_tap_between_two_frames_fires_once():
+    world = World(seed=1)
+    recorder = Recorder(world)
+    clock = FakeClock()
+    session = Session(world, pygame.Surface((224, 256)), clock, scale=1, recorder=recorder)
+    taps = 0
+    for frame in range(20 * 90):
+        if frame % 90 == 45:  # down and up again before the next frame: never held
+            session.handle(_key(pygame.KEYDOWN, pygame.K_SPACE))
+            session.handle(_key(pygame.KEYUP, pygame.K_SPACE))
+            taps += 1
+        clock.now += 1 / 60
+        session.frame(0)
+    ticks_with_fire = sum(count for bits, count in recorder.replay.inputs if bits & FIRE)
+    assert taps == 20 and ticks_with_fire == 20  # each tap: one tick, recorded as used
+
+
+def test_two_taps_in_one_frame_are_two_presses():
+    world = World(seed=1)
+    recorder = Recorder(world)
+    clock = FakeClock()
+    session = Session(world, pygame.Surface((224, 256)), clock, scale=1, recorder=recorder)
+    for _ in range(2):
+        session.handle(_key(pygame.KEYDOWN, pygame.K_SPACE))
+        session.handle(_key(pygame.KEYUP, pygame.K_SPACE))
+    for _ in range(5):
+        clock.now += 1 / 60
+        session.frame(0)
+    bits = [b for b, count in recorder.replay.inputs for _ in range(count)]
+    assert bits[:3] == [FIRE, 0, FIRE]  # a release between them, so both are presses
+
+
+def _watch_to_the_end(replay) -> Session:
+    world = World(replay.seed, replay.config)
+    clock = FakeClock()
+    session = Session(world, pygame.Surface((224, 256)), clock, scale=1, replay=replay)
+    for _ in range(replay.ticks + 10):
+        clock.now += 1 / 60
+        session.frame(0)
+    return session
+
+
+def test_a_replays_end_shows_the_verdict_and_enter_asks_for_a_game():
+    replay = record_headless(World(seed=2), Autopilot(2), 240)
+    session = _watch_to_the_end(replay)
+    assert session.replay_done and session.replay_verdict() == "CHECKPOINTS MATCHED"
+    assert session.world.tick == 240
+    session.handle(_key(pygame.KEYDOWN, pygame.K_RETURN))
+    assert session.start_requested
+    changed = record_headless(World(seed=2), Autopilot(2), 240)
+    changed.inputs.insert(-1, [int(Action.RIGHT), 20])  # twenty more ticks of moving right
+    changed.inputs[-1][1] -= 20  # (taken from the last run: the same length)
+    assert _watch_to_the_end(changed).replay_verdict().startswith("DIFFERS FROM TICK ")
+
+
+def test_without_a_display_play_refuses_in_one_line():
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("SDL_VIDEODRIVER", "DISPLAY", "WAYLAND_DISPLAY")}
+    script = str(Path(sys.executable).with_name("invaders"))
+    result = subprocess.run([script, "play"], capture_output=True, text=True, timeout=60,
+                            env=env, check=False)
+    assert result.returncode == 2
+    assert result.stderr.count("\n") == 1 and "'invaders run'" in result.stderr
