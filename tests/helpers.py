@@ -62,3 +62,21 @@ def step_until(world: World, done: Callable[[TickReport], bool], actions: int = 
         if done(report):
             return report
     raise AssertionError(f"condition not met in {limit} ticks")
+
+
+class FakeClock:
+    """A clock the test moves by hand, for windowed sessions at any frame rate."""
+
+    def __init__(self, start: float = 0.0) -> None:
+        self.now = start
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def windowed(world: World, **options):
+    """A windowed session on an off-screen surface, and the fake clock that drives it."""
+    from invaders.app.play import Session
+
+    clock = FakeClock()
+    return Session(world, pygame.Surface((224, 256)), clock, scale=1, **options), clock

@@ -5,19 +5,12 @@ from __future__ import annotations
 import pytest
 
 from invaders.app.loop import FixedStepLoop
-
-
-class FakeClock:
-    def __init__(self) -> None:
-        self.now = 100.0
-
-    def __call__(self) -> float:
-        return self.now
+from tests.helpers import FakeClock
 
 
 @pytest.mark.parametrize("fps", [30, 60, 144, 75])
 def test_ten_seconds_of_frames_run_exactly_600_ticks_at_any_frame_rate(fps):
-    clock = FakeClock()
+    clock = FakeClock(100.0)
     loop = FixedStepLoop(clock, tick_hz=60)
     ticks = 0
     for frame in range(1, 10 * fps + 1):
@@ -30,7 +23,7 @@ def test_ten_seconds_of_frames_run_exactly_600_ticks_at_any_frame_rate(fps):
 
 
 def test_a_30_fps_display_runs_two_ticks_a_frame():
-    clock = FakeClock()
+    clock = FakeClock(100.0)
     loop = FixedStepLoop(clock, tick_hz=60)
     runs = []
     for frame in range(1, 31):
@@ -43,7 +36,7 @@ def test_a_30_fps_display_runs_two_ticks_a_frame():
 
 
 def test_alpha_is_the_fraction_of_a_tick_banked():
-    clock = FakeClock()
+    clock = FakeClock(100.0)
     loop = FixedStepLoop(clock, tick_hz=60)
     clock.now += 1.5 / 60
     ticks, alpha = loop.frame()
@@ -51,7 +44,7 @@ def test_alpha_is_the_fraction_of_a_tick_banked():
 
 
 def test_a_stall_of_seconds_slows_the_game_instead_of_freezing_it():
-    clock = FakeClock()
+    clock = FakeClock(100.0)
     loop = FixedStepLoop(clock, tick_hz=60, max_catch_up=5)
     clock.now += 5.0  # the window was dragged for five seconds
     ticks, _ = loop.frame()
@@ -62,7 +55,7 @@ def test_a_stall_of_seconds_slows_the_game_instead_of_freezing_it():
 
 
 def test_resume_forgets_paused_time():
-    clock = FakeClock()
+    clock = FakeClock(100.0)
     loop = FixedStepLoop(clock, tick_hz=60)
     clock.now += 30.0
     loop.resume()
@@ -71,7 +64,7 @@ def test_resume_forgets_paused_time():
 
 
 def test_time_going_backwards_runs_nothing():
-    clock = FakeClock()
+    clock = FakeClock(100.0)
     loop = FixedStepLoop(clock, tick_hz=60)
     clock.now -= 1.0
     assert loop.frame() == (0, 0.0)

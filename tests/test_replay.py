@@ -23,6 +23,7 @@ from invaders.game.config import GameConfig
 from invaders.game.replay import Replay, ReplayError, load, parse, parse_lines, run
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
+from tests.helpers import FakeClock, windowed
 
 TICKS = 1500
 
@@ -61,13 +62,6 @@ def _final_hash(replay: Replay, broadphase: str = "grid") -> str:
     assert result.mismatch is None, result.mismatch
     return result.final.hash
 
-
-class FakeClock:
-    def __init__(self) -> None:
-        self.now = 0.0
-
-    def __call__(self) -> float:
-        return self.now
 
 
 @pytest.mark.parametrize("fps, window", [(30, False), (60, True), (144, False)])
@@ -121,8 +115,7 @@ def test_a_recording_made_in_a_window_replays_headless_to_the_same_hash():
     world = World(seed=2)
 
     recorder = Recorder(world)
-    clock = FakeClock()
-    session = Session(world, pygame.Surface((224, 256)), clock, scale=1, recorder=recorder)
+    session, clock = windowed(world, recorder=recorder)
     for frame in range(600):
         clock.now += 1 / 75
         keys = (1 if frame % 90 < 40 else 2) | (4 if frame % 7 == 0 else 0)

@@ -11,21 +11,14 @@ from pathlib import Path
 
 import pygame
 
-from invaders.app.play import Session
 from invaders.app.recording import Recorder, record_headless
 from invaders.game.actions import Action
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
+from tests.helpers import windowed
 
 FIRE = int(Action.FIRE)
 
-
-class FakeClock:
-    def __init__(self) -> None:
-        self.now = 0.0
-
-    def __call__(self) -> float:
-        return self.now
 
 
 def _key(kind: int, key: int) -> pygame.event.Event:
@@ -35,8 +28,7 @@ def _key(kind: int, key: int) -> pygame.event.Event:
 def test_every_short_tap_between_two_frames_fires_once():
     world = World(seed=1)
     recorder = Recorder(world)
-    clock = FakeClock()
-    session = Session(world, pygame.Surface((224, 256)), clock, scale=1, recorder=recorder)
+    session, clock = windowed(world, recorder=recorder)
     taps = 0
     for frame in range(20 * 90):
         if frame % 90 == 45:  # down and up again before the next frame: never held
@@ -52,8 +44,7 @@ def test_every_short_tap_between_two_frames_fires_once():
 def test_two_taps_in_one_frame_are_two_presses():
     world = World(seed=1)
     recorder = Recorder(world)
-    clock = FakeClock()
-    session = Session(world, pygame.Surface((224, 256)), clock, scale=1, recorder=recorder)
+    session, clock = windowed(world, recorder=recorder)
     for _ in range(2):
         session.handle(_key(pygame.KEYDOWN, pygame.K_SPACE))
         session.handle(_key(pygame.KEYUP, pygame.K_SPACE))
@@ -64,10 +55,9 @@ def test_two_taps_in_one_frame_are_two_presses():
     assert bits[:3] == [FIRE, 0, FIRE]  # a release between them, so both are presses
 
 
-def _watch_to_the_end(replay) -> Session:
+def _watch_to_the_end(replay):
     world = World(replay.seed, replay.config)
-    clock = FakeClock()
-    session = Session(world, pygame.Surface((224, 256)), clock, scale=1, replay=replay)
+    session, clock = windowed(world, replay=replay)
     for _ in range(replay.ticks + 10):
         clock.now += 1 / 60
         session.frame(0)
