@@ -66,3 +66,51 @@ def test_the_score_bar_is_the_originals_and_the_high_score_waits_for_game_over()
     assert not any(message.startswith("WAVE") for message in texts)
     world._game_over()
     assert ("0120", 88, 24) in hud_texts(world)  # now it is the high score
+
+
+def test_game_over_is_written_clear_of_the_rack_and_the_dead_cannon_is_cleared():
+    from invaders.app.render import Renderer, game_over_texts
+    from invaders.game.config import DEFAULT_CONFIG
+    from invaders.game.entities import CannonState
+    from invaders.game.world import Phase, World
+    from tests.helpers import step_until
+
+    world = World(seed=1)
+    # The top row's pictures at the highest start of any wave: the rack only comes down.
+    highest_ever = min(DEFAULT_CONFIG.start_top(w) for w in range(1, 12)) - 16 * 4
+    for message, x, y in game_over_texts():
+        assert y + 8 <= highest_ever  # above every row the rack can reach
+        assert x >= 0 and x + 8 * len(message) <= 224
+    world.kill_cannon()
+    world.ships = 1
+    step_until(world, lambda r: world.phase is Phase.GAME_OVER, limit=200)
+    assert world.cannon.state is CannonState.EXPLODING and world.cannon.timer <= 0
+    target = pygame.Surface((224, 256))
+    Renderer(1).draw(target, world)
+    cannon = world.cannon
+    area = target.subsurface((cannon.x, cannon.y, 16, 8))
+    assert all(area.get_at((x, y))[:3] == (0, 0, 0) for x in range(16) for y in range(8))
+
+
+def test_a_window_of_another_shape_shows_the_game_unstretched_between_black_borders():
+    from invaders.app.render import View
+
+    world = active_world()
+    target = pygame.Surface((800, 600))
+    Renderer(3).draw(target, world, overlay=True)
+    view = View.of((800, 600))
+    assert view.scale == 600 / 256 and (view.x, view.y) == (138, 0)  # 525 px wide, centred
+    for x in (0, 137, 663, 799):
+        assert all(target.get_at((x, y))[:3] == (0, 0, 0) for y in range(0, 600, 7))
+    inside = {target.get_at((x, y))[:3] for x in range(138, 662, 5) for y in range(0, 600, 5)}
+    assert len(inside) > 2  # the game is drawn there
+
+
+def test_the_overlay_text_is_legible_at_scale_1_and_its_lines_stay_off_the_hud():
+    world = active_world()
+    target = pygame.Surface((224, 256))
+    Renderer(1).draw(target, world, overlay=True, report=world.step(0))
+    plain = pygame.Surface((224, 256))
+    Renderer(1).draw(plain, world, overlay=False, report=None)
+    for y in list(range(0, 31)) + list(range(241, 256)):  # the score bar and bottom line
+        assert all(target.get_at((x, y)) == plain.get_at((x, y)) for x in range(224)), y

@@ -85,3 +85,18 @@ def test_without_a_display_play_refuses_in_one_line():
                             env=env, check=False)
     assert result.returncode == 2
     assert result.stderr.count("\n") == 1 and "'invaders run'" in result.stderr
+
+
+def test_a_paused_game_draws_nothing_new_and_wakes_seldom():
+    session, clock = windowed(World(seed=1))
+    clock.now += 1 / 60
+    assert session.frame(0)  # the game runs: a tick, a picture
+    assert session.frames_per_second() == 60
+    session.handle(_key(pygame.KEYDOWN, pygame.K_p))
+    clock.now += 1 / 60
+    assert session.frame(0)  # the word PAUSED is new: drawn once
+    tick = session.world.tick
+    for _ in range(30):
+        clock.now += 1 / 10
+        assert not session.frame(0)  # then nothing, however much time passes
+    assert session.world.tick == tick and session.frames_per_second() == 10

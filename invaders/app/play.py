@@ -6,6 +6,7 @@ the real windowed code with a fake clock at any frame rate (dummy video driver).
 
 from __future__ import annotations
 
+import contextlib
 import io
 import os
 import sys
@@ -32,7 +33,8 @@ FIRE_KEYS = (pygame.K_SPACE,)
 START_KEYS = (pygame.K_RETURN, pygame.K_KP_ENTER, pygame.K_1)
 FIRE = int(Action.FIRE)
 START = int(Action.START)
-MAX_FPS = 240  # render at the display's pace, but never spin faster than this
+MAX_FPS = 240  # never draw faster than this, whatever the replay speed
+IDLE_FPS = 10  # paused or at a replay's end: wake this often, to answer keys
 SAVE_EVERY = 180  # ticks between autosaves of a recording (3 s)
 
 
@@ -68,6 +70,8 @@ class Session:
         self.start_requested = False  # Enter after a replay's end: the caller starts a game
         self.fire_presses = 0  # fire key-downs not yet given to a tick
         self.start_pressed = False
+        self.needs_draw = True  # something besides a tick changed what the window shows
+        self.tick_rate = world.config.tick_hz * speed
         self.recorder = recorder
         self.watch = CandidateWatch()
         self.overlay = False
@@ -88,6 +92,9 @@ class Session:
         """React to one window event; False means quit."""
         if event.type == pygame.QUIT:
             return False
+        self.needs_draw = True  # a key, an expose, a resize: show the answer
+        if event.type in (pygame.VIDEORESIZE, pygame.WINDOWSIZECHANGED):
+            self._follow_window()
         if event.type == pygame.KEYDOWN:
             if event.key == pygame.K_ESCAPE:
                 return False
@@ -102,12 +109,31 @@ class Session:
                 self.loop.resume()
             elif event.key == pygame.K_F3:
                 self.set_overlay(not self.overlay)
+            elif event.key == pygame.K_F11:
+                with contextlib.suppress(pygame.error):  # a driver that cannot: stay as is
+                    pygame.display.toggle_fullscreen()
+                self._follow_window()
         return True
 
-    def frame(self, held: int, stop: Callable[[], bool] | None = None) -> None:
+    def _follow_window(self) -> None:
+        """Draw into the window's surface as it is now (resizing can replace it)."""
+        surface = pygame.display.get_surface() if pygame.display.get_init() else None
+        if surface is not None:
+            self.target = surface
+
+    def frames_per_second(self) -> int:
+        """How often the loop should wake: at the tick rate while the game runs (a frame
+        per tick), seldom while nothing moves."""
+        if self.paused or self.replay_done:
+            return IDLE_FPS
+        return min(self.tick_rate, MAX_FPS)
+
+    def frame(self, held: int, stop: Callable[[], bool] | None = None) -> bool:
         """Run the ticks real time has banked (with `held` keys, unless watching a replay;
-        fewer if `stop()` asks between two), then draw."""
+        fewer if `stop()` asks between two), then draw if anything changed. Returns whether
+        it drew."""
         ticks, alpha = (0, 0.0) if self.paused or self.replay_done else self.loop.frame()
+        ran = 0
         for _ in range(ticks):
             if stop is not None and stop():
                 break
@@ -118,6 +144,7 @@ class Session:
                     self.replay_done = True
                     break
             self.report = self.world.step(bits)
+            ran += 1
             if self.recorder is not None:
                 self.recorder.tick(bits)  # exactly what the tick used
             digest = self.expected.get(self.world.tick)
@@ -127,8 +154,13 @@ class Session:
         if self.inputs is not None and not self.replay_done and self.world.tick >= max(
                 self.expected, default=0):
             self.replay_done = next(self.inputs, None) is None
+            self.needs_draw = True
+        if not ran and not self.needs_draw:
+            return False
+        self.needs_draw = False
         self.renderer.draw(self.target, self.world, alpha, self.overlay, self.report,
                            self.watch.pairs, self.paused, self.replay_verdict())
+        return True
 
     def _tick_input(self, held: int) -> int:
         """This tick's input: the held keys, plus key presses latched from the event queue,
@@ -171,7 +203,7 @@ def open_window(scale: int, title: str = "invaders") -> pygame.Surface:
         pygame.display.quit()
         raise pygame.error(f"no display: SDL fell back to its '{driver}' driver, which "
                            "shows no window")
-    window = pygame.display.set_mode((SCREEN_W * scale, SCREEN_H * scale))
+    window = pygame.display.set_mode((SCREEN_W * scale, SCREEN_H * scale), pygame.RESIZABLE)
     pygame.display.set_caption(f"{title}  (arrows/A D move, space fires, P pause, "
                                "F3 overlay)")
     return window
@@ -200,16 +232,16 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool 
         try:
             while signals.received is None and all(
                     session.handle(event) for event in pygame.event.get()):
-                session.frame(keyboard_actions(pygame.key.get_pressed()),
-                              stop=lambda: signals.received is not None)
+                if session.frame(keyboard_actions(pygame.key.get_pressed()),
+                                 stop=lambda: signals.received is not None):
+                    pygame.display.flip()
                 if session.start_requested:  # Enter at a replay's end: a game of one's own
                     world = World(seed=seed, broadphase=broadphase)
                     session = Session(world, window, time.perf_counter, scale,
                                       overlay=session.overlay)
                     pygame.display.set_caption("invaders  (arrows/A D move, space fires, "
                                                "P pause, F3 overlay)")
-                pygame.display.flip()
-                frame_clock.tick(MAX_FPS)
+                frame_clock.tick(session.frames_per_second())
         finally:
             if recorder is not None:
                 with writing(record or "", "replay"):

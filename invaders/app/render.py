@@ -28,6 +28,8 @@ RED_GEL = (255, 64, 64)
 GREEN_GEL = (64, 255, 64)
 GRID_COLOUR = (60, 90, 160)
 PAIR_COLOUR = (255, 220, 0)
+PLAYFIELD_ROWS = (32, 239)  # between the score bar and the ground line
+OVERLAY_TEXT_PX = 14  # the overlay's text is never smaller than this, whatever the scale
 CONTACT_COLOUR = (255, 0, 255)
 
 
@@ -64,6 +66,7 @@ class Renderer:
         self.gel = gel_surface()
         self._sprites: dict[art.Art, pygame.Surface] = {}
         self._font: pygame.font.Font | None = None
+        self._font_size = 0
 
     def sprite(self, picture: art.Art) -> pygame.Surface:
         surface = self._sprites.get(picture)
@@ -86,20 +89,23 @@ class Renderer:
         self._draw_hud(world)
         self._draw_play(world, alpha)
         if world.phase is Phase.GAME_OVER:
-            self.text("GAME OVER", 76, 152)
-            self.text("PRESS ENTER", 68, 168)
+            for message, x, y in game_over_texts():
+                self.text(message, x, y)
         if paused:
             self.text("PAUSED", 88, 152)
         if replay_verdict is not None:
             for i, line in enumerate(("REPLAY ENDED", replay_verdict, "ENTER PLAYS  ESC QUITS")):
                 self.text(line, (SCREEN_W - 8 * len(line)) // 2, 88 + 16 * i)
         screen.blit(self.gel, (0, 0), special_flags=pygame.BLEND_RGB_MULT)
+        view = View.of(target.get_size())
         if target.get_size() == screen.get_size():
             target.blit(screen, (0, 0))
-        else:
-            pygame.transform.scale(screen, target.get_size(), target)
+        else:  # the game's aspect kept, black borders around it
+            target.fill(BACKGROUND)
+            size = (round(SCREEN_W * view.scale), round(SCREEN_H * view.scale))
+            target.blit(pygame.transform.scale(screen, size), (view.x, view.y))
         if overlay:
-            self._draw_overlay(target, world, report, pairs)
+            self._draw_overlay(target, view, world, report, pairs)
 
     def _draw_hud(self, world: World) -> None:
         for message, x, y in hud_texts(world):
@@ -126,7 +132,7 @@ class Renderer:
         cannon = world.cannon
         if cannon.state is CannonState.ACTIVE:
             blit(self.sprite(art.CANNON), (cannon.x, cannon.y))
-        elif cannon.state is CannonState.EXPLODING:
+        elif cannon.state is CannonState.EXPLODING and cannon.timer > 0:  # debris then clears
             frame = (cannon.timer // world.config.timing.cannon_death_swap) % 2
             blit(self.sprite(art.CANNON_DEATH[frame]), (cannon.x, cannon.y))
         if world.shot is not None:
@@ -146,38 +152,54 @@ class Renderer:
         elif state.hit_steps > 0:
             self.text(str(state.hit_score), state.hit_x + 4, lane)
 
-    def _draw_overlay(self, target: pygame.Surface, world: World, report: TickReport | None,
-                      pairs: Sequence[tuple[int, int]]) -> None:
-        s = self.scale
+    def _draw_overlay(self, target: pygame.Surface, view: View, world: World,
+                      report: TickReport | None, pairs: Sequence[tuple[int, int]]) -> None:
+        """Cells, candidate pairs and counters, at the window's resolution; the lines stay
+        in the playfield's rows, off the score bar and the bottom line."""
+        top, bottom = view.to_window(0, PLAYFIELD_ROWS[0])[1], view.to_window(
+            0, PLAYFIELD_ROWS[1])[1]
         if report is not None and report.cell:
-            step = report.cell * s
-            w, h = target.get_size()
-            for x in range(0, w, step):
-                pygame.draw.line(target, GRID_COLOUR, (x, 0), (x, h))
-            for y in range(0, h, step):
-                pygame.draw.line(target, GRID_COLOUR, (0, y), (w, y))
+            for x in range(0, SCREEN_W + 1, report.cell):
+                wx = view.to_window(x, 0)[0]
+                pygame.draw.line(target, GRID_COLOUR, (wx, top), (wx, bottom))
+            first = -(-PLAYFIELD_ROWS[0] // report.cell) * report.cell
+            for y in range(first, PLAYFIELD_ROWS[1] + 1, report.cell):
+                wy = view.to_window(0, y)[1]
+                pygame.draw.line(target, GRID_COLOUR, (view.x, wy),
+                                 (view.to_window(SCREEN_W, 0)[0], wy))
         by_id = world.store.by_id
         for a_id, b_id in pairs:
             a, b = by_id.get(a_id), by_id.get(b_id)
             if a is not None and b is not None:
-                pygame.draw.line(target, PAIR_COLOUR, _centre(a, s), _centre(b, s), 2)
+                pygame.draw.line(target, PAIR_COLOUR, view.centre(a), view.centre(b), 2)
                 for body in (a, b):
-                    pygame.draw.rect(target, PAIR_COLOUR,
-                                     (body.x * s, body.y * s, body.w * s, body.h * s), 1)
-        if self._font is None:
+                    pygame.draw.rect(target, PAIR_COLOUR, view.box(body), 1)
+        size = max(OVERLAY_TEXT_PX, round(7 * view.scale))
+        if self._font is None or self._font_size != size:
             pygame.font.init()
-            self._font = pygame.font.Font(None, 7 * s)
+            self._font = pygame.font.Font(None, size)
+            self._font_size = size
         labels = [self._font.render(line, True, (255, 255, 255))
                   for line in overlay_lines(world.tick, report)]
-        width = max(label.get_width() for label in labels) + 2 * s
-        height = sum(label.get_height() for label in labels) + 2 * s
+        pad = max(2, size // 7)
+        width = max(label.get_width() for label in labels) + 2 * pad
+        height = sum(label.get_height() for label in labels) + 2 * pad
         panel = pygame.Surface((width, height), pygame.SRCALPHA)
         panel.fill((0, 0, 0, 170))
-        y = s
+        y = pad
         for label in labels:
-            panel.blit(label, (s, y))
+            panel.blit(label, (pad, y))
             y += label.get_height()
-        target.blit(panel, (target.get_width() - width - s, 34 * s))
+        right = view.to_window(SCREEN_W, 0)[0]
+        target.blit(panel, (right - width - pad, top + pad))
+
+
+def game_over_texts() -> list[tuple[str, int, int]]:
+    """GAME OVER and how to start again, centred in the rows just below the saucer's lane:
+    the rack never rises above its first rows, so nothing is drawn over it however low it
+    has come. UNCERTAIN: our notes do not give the original's place for the text."""
+    return [("GAME OVER", (SCREEN_W - 8 * 9) // 2, 48),
+            ("PRESS ENTER", (SCREEN_W - 8 * 11) // 2, 56)]
 
 
 def hud_texts(world: World) -> list[tuple[str, int, int]]:
@@ -217,5 +239,27 @@ def _lerp(body, tick: int, alpha: float) -> tuple[int, int]:
     return round(px + (body.x - px) * alpha), round(py + (body.y - py) * alpha)
 
 
-def _centre(body, scale: int) -> tuple[int, int]:
-    return (body.x * 2 + body.w) * scale // 2, (body.y * 2 + body.h) * scale // 2
+class View:
+    """Where the 224x256 screen sits in a window of any size: scaled as large as fits with
+    its aspect kept, centred, black around it."""
+
+    def __init__(self, x: int, y: int, scale: float) -> None:
+        self.x, self.y, self.scale = x, y, scale
+
+    @classmethod
+    def of(cls, size: tuple[int, int]) -> View:
+        w, h = size
+        scale = min(w / SCREEN_W, h / SCREEN_H)
+        return cls(round((w - SCREEN_W * scale) / 2), round((h - SCREEN_H * scale) / 2),
+                   scale)
+
+    def to_window(self, x: float, y: float) -> tuple[int, int]:
+        return round(self.x + x * self.scale), round(self.y + y * self.scale)
+
+    def box(self, body) -> pygame.Rect:
+        x0, y0 = self.to_window(body.x, body.y)
+        x1, y1 = self.to_window(body.x + body.w, body.y + body.h)
+        return pygame.Rect(x0, y0, x1 - x0, y1 - y0)
+
+    def centre(self, body) -> tuple[int, int]:
+        return self.to_window(body.x + body.w / 2, body.y + body.h / 2)
