@@ -100,3 +100,57 @@ def test_a_paused_game_draws_nothing_new_and_wakes_seldom():
         clock.now += 1 / 10
         assert not session.frame(0)  # then nothing, however much time passes
     assert session.world.tick == tick and session.frames_per_second() == 10
+
+
+def _app():
+    from invaders.app.play import App
+    from tests.helpers import FakeClock
+
+    clock = FakeClock()
+    world = World(seed=4)
+    return App(world, pygame.Surface((224, 256)), clock, scale=1), clock, world
+
+
+def test_the_attract_cycle_shows_its_screens_in_order_and_enter_starts_a_game():
+    from invaders.app.attract import SCREENS
+
+    app, clock, world = _app()
+    seen = []
+    for _ in range(int(sum(seconds for _, seconds in SCREENS) * 10) + 20):
+        clock.now += 0.1
+        going, _ = app.step([], 0)
+        assert going
+        if not seen or seen[-1] != app.attract.screen:
+            seen.append(app.attract.screen)
+    assert seen == ["title", "table", "demo", "insert", "title"]
+    assert world.tick == 0  # the player's world waits; the demo played in its own
+    app.step([_key(pygame.KEYDOWN, pygame.K_RETURN)], 0)
+    assert app.mode == "game"
+    clock.now += 1 / 60
+    app.step([], 0)
+    assert world.tick > 0
+
+
+def test_after_game_over_the_attract_cycle_comes_back_and_the_next_game_keeps_the_high_score():
+    app, clock, world = _app()
+    app.step([_key(pygame.KEYDOWN, pygame.K_1)], 0)
+    world.score = 70
+    world.ships = 1
+    world.kill_cannon()
+    for _ in range(400):
+        clock.now += 1 / 60
+        app.step([], 0)
+        if app.mode == "attract":
+            break
+    assert app.mode == "attract" and world.hi_score == 70
+    app.step([_key(pygame.KEYDOWN, pygame.K_RETURN)], 0)
+    for _ in range(3):
+        clock.now += 1 / 60
+        app.step([], 0)
+    assert app.mode == "game" and world.games == 2 and world.score == 0
+    assert world.hi_score == 70
+
+
+def test_esc_quits_from_the_attract_cycle():
+    app, _, _ = _app()
+    assert app.step([_key(pygame.KEYDOWN, pygame.K_ESCAPE)], 0) == (False, False)

@@ -62,6 +62,8 @@ def build_parser() -> Parser:
                       help="run headless for --ticks with the autopilot, save the window as PNG")
     play.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=600)
     play.add_argument("--overlay", action="store_true", help="start with the debug overlay on")
+    play.add_argument("--attract", choices=("title", "table", "insert"),
+                      help="with --screenshot: save that screen of the attract cycle instead")
     play.add_argument("--record", metavar="FILE", help="record the game as a replay (JSON)")
     play.add_argument("--replay", metavar="FILE", help="watch a replay instead of playing")
     play.add_argument("--speed", type=_int_in("--speed", 1, 64), default=1,
@@ -155,7 +157,8 @@ def cmd_play(args: argparse.Namespace) -> int:
     if args.screenshot:
         check_output(args.screenshot, "screenshot", PICTURE_SUFFIXES)
         return screenshot(args.screenshot, seed=args.seed, ticks=args.ticks, scale=args.scale,
-                          overlay=args.overlay, broadphase=args.broadphase)
+                          overlay=args.overlay, broadphase=args.broadphase,
+                          attract=args.attract)
     replay = None
     if args.replay:
         from invaders.game.replay import ReplayError, load

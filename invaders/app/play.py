@@ -15,6 +15,7 @@ from collections.abc import Callable, Iterator
 
 import pygame
 
+from invaders.app.attract import Attract, card, demo_world
 from invaders.app.loop import FixedStepLoop
 from invaders.app.outputs import writing
 from invaders.app.recording import Recorder
@@ -24,7 +25,7 @@ from invaders.atomic import atomic_writer
 from invaders.game.actions import Action
 from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.replay import Replay
-from invaders.game.world import TickReport, World
+from invaders.game.world import Phase, TickReport, World
 from invaders.lab.autopilot import Autopilot
 
 LEFT_KEYS = (pygame.K_LEFT, pygame.K_a)
@@ -57,9 +58,11 @@ class Session:
 
     def __init__(self, world: World, target: pygame.Surface, clock: Callable[[], float],
                  scale: int = 3, replay: Replay | None = None, speed: int = 1,
-                 recorder: Recorder | None = None, overlay: bool = False) -> None:
+                 recorder: Recorder | None = None, overlay: bool = False,
+                 pilot: Autopilot | None = None) -> None:
         self.world = world
         self.target = target
+        self.pilot = pilot  # plays instead of the keys (the attract cycle's demo)
         self.loop = FixedStepLoop(clock, world.config.tick_hz * speed,
                                   max_catch_up=5 * speed)
         self.renderer = Renderer(scale)
@@ -166,6 +169,8 @@ class Session:
         """This tick's input: the held keys, plus key presses latched from the event queue,
         so a press and release between two frames still counts, once. A press while the
         world still sees fire down waits one tick with fire up, so it is a new press."""
+        if self.pilot is not None:
+            return self.pilot.actions(self.world)
         bits = held
         if self.start_pressed:
             bits |= START
@@ -209,14 +214,79 @@ def open_window(scale: int, title: str = "invaders") -> pygame.Surface:
     return window
 
 
+class App:
+    """A window's life: the attract cycle between games, the player's game, or a replay.
+
+    The player's world lives across games (so its high score and a recording carry on) and
+    only steps while a game is shown; the attract cycle's demo has a world of its own.
+    """
+
+    def __init__(self, world: World, window: pygame.Surface, clock: Callable[[], float],
+                 scale: int = 3, replay: Replay | None = None, speed: int = 1,
+                 recorder: Recorder | None = None, overlay: bool = False,
+                 broadphase: str = "grid", attract_first: bool = True) -> None:
+        self.window, self.clock, self.scale, self.broadphase = window, clock, scale, broadphase
+        self.session = Session(world, window, clock, scale, replay, speed, recorder, overlay)
+        self.attract = None if replay is not None else Attract(window, clock, scale, world,
+                                                                self._demo)
+        self.mode = "attract" if self.attract is not None and attract_first else "game"
+
+    def _demo(self) -> Session:
+        world, pilot = demo_world(self.broadphase)
+        return Session(world, self.window, self.clock, self.scale, pilot=pilot)
+
+    def frames_per_second(self) -> int:
+        if self.mode == "attract" and self.attract is not None:
+            return self.attract.frames_per_second()
+        return self.session.frames_per_second()
+
+    def step(self, events: list[pygame.event.Event], held: int,
+             stop: Callable[[], bool] | None = None) -> tuple[bool, bool]:
+        """One frame: (go on, drew something)."""
+        if self.mode == "attract" and self.attract is not None:
+            for event in events:
+                if event.type == pygame.QUIT or (event.type == pygame.KEYDOWN
+                                                 and event.key == pygame.K_ESCAPE):
+                    return False, False
+                if event.type in (pygame.VIDEORESIZE, pygame.WINDOWSIZECHANGED) or (
+                        event.type == pygame.KEYDOWN and event.key == pygame.K_F11):
+                    self.session.handle(event)  # follows the window (F11 toggles it)
+                    self.attract.redraw(self.session.target)
+                elif event.type == pygame.KEYDOWN and event.key in START_KEYS:
+                    self.mode = "game"  # a coin and the start button: the next tick starts
+                    self.session.loop.resume()
+                    self.session.start_pressed = True
+                    self.session.needs_draw = True
+            if self.mode == "attract":
+                return True, self.attract.frame()
+        elif not all(self.session.handle(event) for event in events):
+            return False, False
+        before = self.session.world.tick
+        drew = self.session.frame(held, stop)
+        world = self.session.world
+        if self.session.start_requested:  # Enter at a replay's end: a game of one's own
+            fresh = World(seed=world.seed, broadphase=self.broadphase)
+            self.session = Session(fresh, self.session.target, self.clock, self.scale,
+                                   overlay=self.session.overlay)
+            pygame.display.set_caption("invaders  (arrows/A D move, space fires, "
+                                       "P pause, F3 overlay)")
+        elif (self.attract is not None and world.tick > before
+              and world.phase is Phase.GAME_OVER and world.phase_timer <= 0):
+            self.mode = "attract"  # GAME OVER has been shown: the cabinet's cycle again
+            self.attract.restart()
+            self.attract.redraw(self.session.target)
+        return True, drew
+
+
 def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool = False,
          record: str | None = None, replay: Replay | None = None, speed: int = 1) -> int:
-    """Open a window and play (or watch a replay) until Esc, the window closes or a signal.
+    """Open a window: the attract cycle until Enter or 1 starts a game (or a replay to
+    watch), until Esc, the window closes or a signal.
 
-    A recording is saved every few seconds and again when the game ends however it ends,
-    always between two ticks, by appending whole lines: at worst the last seconds are lost,
-    never the file. A signal (Ctrl-C, TERM, HUP) ends it with the shell's code (130, 143,
-    129) after saying where the recording went.
+    A recording is saved every few seconds and again when the window closes however it
+    closes, always between two ticks, by appending whole lines: at worst the last seconds
+    are lost, never the file. A signal (Ctrl-C, TERM, HUP) ends it with the shell's code
+    (130, 143, 129) after saying where the recording went.
     """
     if replay is not None:
         world = World(replay.seed, replay.config, broadphase=broadphase)
@@ -225,23 +295,20 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool 
     recorder = Recorder(world, record, SAVE_EVERY) if record else None
     title = "invaders" if replay is None else f"invaders: replay at {speed}x"
     window = open_window(scale, title)
-    session = Session(world, window, time.perf_counter, scale, replay, speed, recorder,
-                      overlay)
+    app = App(world, window, time.perf_counter, scale, replay, speed, recorder, overlay,
+              broadphase, attract_first=recorder is None)  # a recording starts with its game
     frame_clock = pygame.time.Clock()
     with StopSignals() as signals:
         try:
-            while signals.received is None and all(
-                    session.handle(event) for event in pygame.event.get()):
-                if session.frame(keyboard_actions(pygame.key.get_pressed()),
-                                 stop=lambda: signals.received is not None):
+            while signals.received is None:
+                going, drew = app.step(pygame.event.get(),
+                                       keyboard_actions(pygame.key.get_pressed()),
+                                       stop=lambda: signals.received is not None)
+                if not going:
+                    break
+                if drew:
                     pygame.display.flip()
-                if session.start_requested:  # Enter at a replay's end: a game of one's own
-                    world = World(seed=seed, broadphase=broadphase)
-                    session = Session(world, window, time.perf_counter, scale,
-                                      overlay=session.overlay)
-                    pygame.display.set_caption("invaders  (arrows/A D move, space fires, "
-                                               "P pause, F3 overlay)")
-                frame_clock.tick(session.frames_per_second())
+                frame_clock.tick(app.frames_per_second())
         finally:
             if recorder is not None:
                 with writing(record or "", "replay"):
@@ -255,8 +322,10 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool 
 
 
 def screenshot(path: str, seed: int = 0, ticks: int = 600, scale: int = 3,
-               overlay: bool = False, broadphase: str = "grid") -> int:
-    """Play `ticks` ticks headless with the autopilot, then save the window as a PNG."""
+               overlay: bool = False, broadphase: str = "grid",
+               attract: str | None = None) -> int:
+    """Play `ticks` ticks headless with the autopilot, then save the window as a PNG (or,
+    with `attract`, that still screen of the attract cycle)."""
     from invaders.app.headless import use_dummy_drivers
 
     use_dummy_drivers()
@@ -269,7 +338,11 @@ def screenshot(path: str, seed: int = 0, ticks: int = 600, scale: int = 3,
     for _ in range(ticks):
         report = world.step(pilot.actions(world))
     target = pygame.Surface((SCREEN_W * scale, SCREEN_H * scale))
-    Renderer(scale).draw(target, world, 0.0, overlay, report, watch.pairs)
+    if attract is not None:
+        texts, pictures = card(attract)
+        Renderer(scale).draw_card(target, World(seed=seed), texts, pictures)
+    else:
+        Renderer(scale).draw(target, world, 0.0, overlay, report, watch.pairs)
     png = io.BytesIO()
     pygame.image.save(target, png, "screenshot.png")
     with writing(path, "screenshot"), atomic_writer(path, "wb") as handle:

@@ -96,6 +96,24 @@ class Renderer:
         if replay_verdict is not None:
             for i, line in enumerate(("REPLAY ENDED", replay_verdict, "ENTER PLAYS  ESC QUITS")):
                 self.text(line, (SCREEN_W - 8 * len(line)) // 2, 88 + 16 * i)
+        view = self._present(target)
+        if overlay:
+            self._draw_overlay(target, view, world, report, pairs)
+
+    def draw_card(self, target: pygame.Surface, world: World, texts: list[tuple[str, int, int]],
+                  pictures: list[tuple[art.Art, int, int]]) -> None:
+        """A still screen of the attract cycle: the score bar, texts and pictures."""
+        self.screen.fill(BACKGROUND)
+        self._draw_hud(world)
+        for message, x, y in texts:
+            self.text(message, x, y)
+        for picture, x, y in pictures:
+            self.screen.blit(self.sprite(picture), (x, y))
+        self._present(target)
+
+    def _present(self, target: pygame.Surface) -> View:
+        """Tint the logical screen with the gel and show it in the target, its aspect kept."""
+        screen = self.screen
         screen.blit(self.gel, (0, 0), special_flags=pygame.BLEND_RGB_MULT)
         view = View.of(target.get_size())
         if target.get_size() == screen.get_size():
@@ -104,8 +122,7 @@ class Renderer:
             target.fill(BACKGROUND)
             size = (round(SCREEN_W * view.scale), round(SCREEN_H * view.scale))
             target.blit(pygame.transform.scale(screen, size), (view.x, view.y))
-        if overlay:
-            self._draw_overlay(target, view, world, report, pairs)
+        return view
 
     def _draw_hud(self, world: World) -> None:
         for message, x, y in hud_texts(world):
