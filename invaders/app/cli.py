@@ -62,6 +62,7 @@ def build_parser() -> Parser:
                       help="run headless for --ticks with the autopilot, save the window as PNG")
     play.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=600)
     play.add_argument("--overlay", action="store_true", help="start with the debug overlay on")
+    play.add_argument("--mute", action="store_true", help="start with the sound off (M toggles)")
     play.add_argument("--attract", choices=("title", "table", "insert"),
                       help="with --screenshot: save that screen of the attract cycle instead")
     play.add_argument("--record", metavar="FILE", help="record the game as a replay (JSON)")
@@ -173,7 +174,8 @@ def cmd_play(args: argparse.Namespace) -> int:
 
     try:
         return play(seed=args.seed, scale=args.scale, broadphase=args.broadphase,
-                    overlay=args.overlay, record=args.record, replay=replay, speed=args.speed)
+                    overlay=args.overlay, record=args.record, replay=replay, speed=args.speed,
+                    mute=args.mute)
     except pygame.error as err:
         raise UsageError(f"cannot open a window ({err}); without a display, run the game "
                          "headless with 'invaders run'") from None

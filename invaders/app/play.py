@@ -21,6 +21,7 @@ from invaders.app.outputs import writing
 from invaders.app.recording import Recorder
 from invaders.app.render import CandidateWatch, Renderer
 from invaders.app.signals import StopSignals
+from invaders.app.sound import SoundBoard
 from invaders.atomic import atomic_writer
 from invaders.game.actions import Action
 from invaders.game.config import SCREEN_H, SCREEN_W
@@ -59,10 +60,11 @@ class Session:
     def __init__(self, world: World, target: pygame.Surface, clock: Callable[[], float],
                  scale: int = 3, replay: Replay | None = None, speed: int = 1,
                  recorder: Recorder | None = None, overlay: bool = False,
-                 pilot: Autopilot | None = None) -> None:
+                 pilot: Autopilot | None = None, sounds: SoundBoard | None = None) -> None:
         self.world = world
         self.target = target
         self.pilot = pilot  # plays instead of the keys (the attract cycle's demo)
+        self.sounds = sounds
         self.loop = FixedStepLoop(clock, world.config.tick_hz * speed,
                                   max_catch_up=5 * speed)
         self.renderer = Renderer(scale)
@@ -112,6 +114,8 @@ class Session:
                 self.loop.resume()
             elif event.key == pygame.K_F3:
                 self.set_overlay(not self.overlay)
+            elif event.key == pygame.K_m and self.sounds is not None:
+                self.sounds.toggle_mute()
             elif event.key == pygame.K_F11:
                 with contextlib.suppress(pygame.error):  # a driver that cannot: stay as is
                     pygame.display.toggle_fullscreen()
@@ -148,6 +152,8 @@ class Session:
                     break
             self.report = self.world.step(bits)
             ran += 1
+            if self.sounds is not None:
+                self.sounds.react(self.report.events, self.world)
             if self.recorder is not None:
                 self.recorder.tick(bits)  # exactly what the tick used
             digest = self.expected.get(self.world.tick)
@@ -224,9 +230,11 @@ class App:
     def __init__(self, world: World, window: pygame.Surface, clock: Callable[[], float],
                  scale: int = 3, replay: Replay | None = None, speed: int = 1,
                  recorder: Recorder | None = None, overlay: bool = False,
-                 broadphase: str = "grid", attract_first: bool = True) -> None:
+                 broadphase: str = "grid", attract_first: bool = True,
+                 sounds: SoundBoard | None = None) -> None:
         self.window, self.clock, self.scale, self.broadphase = window, clock, scale, broadphase
-        self.session = Session(world, window, clock, scale, replay, speed, recorder, overlay)
+        self.session = Session(world, window, clock, scale, replay, speed, recorder, overlay,
+                               sounds=sounds)
         self.attract = None if replay is not None else Attract(window, clock, scale, world,
                                                                 self._demo)
         self.mode = "attract" if self.attract is not None and attract_first else "game"
@@ -252,6 +260,8 @@ class App:
                         event.type == pygame.KEYDOWN and event.key == pygame.K_F11):
                     self.session.handle(event)  # follows the window (F11 toggles it)
                     self.attract.redraw(self.session.target)
+                elif event.type == pygame.KEYDOWN and event.key == pygame.K_m:
+                    self.session.handle(event)  # mute or unmute
                 elif event.type == pygame.KEYDOWN and event.key in START_KEYS:
                     self.mode = "game"  # a coin and the start button: the next tick starts
                     self.session.loop.resume()
@@ -267,7 +277,7 @@ class App:
         if self.session.start_requested:  # Enter at a replay's end: a game of one's own
             fresh = World(seed=world.seed, broadphase=self.broadphase)
             self.session = Session(fresh, self.session.target, self.clock, self.scale,
-                                   overlay=self.session.overlay)
+                                   overlay=self.session.overlay, sounds=self.session.sounds)
             pygame.display.set_caption("invaders  (arrows/A D move, space fires, "
                                        "P pause, F3 overlay)")
         elif (self.attract is not None and world.tick > before
@@ -279,7 +289,8 @@ class App:
 
 
 def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool = False,
-         record: str | None = None, replay: Replay | None = None, speed: int = 1) -> int:
+         record: str | None = None, replay: Replay | None = None, speed: int = 1,
+         mute: bool = False) -> int:
     """Open a window: the attract cycle until Enter or 1 starts a game (or a replay to
     watch), until Esc, the window closes or a signal.
 
@@ -296,7 +307,8 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool 
     title = "invaders" if replay is None else f"invaders: replay at {speed}x"
     window = open_window(scale, title)
     app = App(world, window, time.perf_counter, scale, replay, speed, recorder, overlay,
-              broadphase, attract_first=recorder is None)  # a recording starts with its game
+              broadphase, attract_first=recorder is None,  # a recording starts with its game
+              sounds=SoundBoard(muted=mute))
     frame_clock = pygame.time.Clock()
     with StopSignals() as signals:
         try:
