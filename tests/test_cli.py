@@ -111,3 +111,23 @@ def test_the_installed_command_runs_headless():
     assert result.returncode == 0, result.stderr
     assert HEX.match(result.stdout.strip().splitlines()[-1])
     assert "pygame" not in result.stdout  # no banner: the hash is the last line, cleanly
+
+
+def test_the_lab_twin_shadows_a_run_without_changing_it(capsys):
+    args = ["run", "--autopilot", "--ticks", "2500", "--seed", "3"]
+    assert main(args) == 0
+    plain = capsys.readouterr().out.strip().splitlines()
+    assert main([*args, "--shadow"]) == 0
+    shadowed = capsys.readouterr().out.strip().splitlines()
+    assert shadowed[-1] == plain[-1]  # watching changes nothing: the same final hash
+    line = next(x for x in shadowed if x.startswith("shadow (rect/mask/auto)"))
+    assert "missed 0, false 0" in line and "late 0" in line
+
+
+def test_discrete_tests_at_eight_times_the_speed_miss_what_the_oracle_sees(capsys):
+    assert main(["run", "--autopilot", "--ticks", "2500", "--seed", "3", "--shadow",
+                 "--motion", "discrete", "--speed-mult", "8"]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines()
+                if x.startswith("shadow (rect/mask/discrete at 8x)"))
+    missed = int(line.split("missed ")[1].split(",")[0])
+    assert missed > 0

@@ -82,6 +82,18 @@ def build_parser() -> Parser:
     run.add_argument("--cell", type=_int_in("--cell", 1, 1024), default=DEFAULT_CELL,
                      help="grid cell size in px")
     run.add_argument("--report", metavar="FILE", help="per-tick counters, .csv or .jsonl")
+    lab = run.add_argument_group("the lab", "detect another way than the default, and see "
+                                 "what that costs and misses")
+    lab.add_argument("--quick", choices=("rect", "circle"), default="rect",
+                     help="the quick test: boxes, or bounding circles")
+    lab.add_argument("--thorough", choices=("mask", "none"), default="mask",
+                     help="the thorough test: pixel masks, or none (boxes are the shapes)")
+    lab.add_argument("--motion", choices=("auto", "discrete", "swept"), default="auto",
+                     help="per entry as proven (auto), every entry discrete, or swept")
+    lab.add_argument("--speed-mult", type=_int_in("--speed-mult", 1, 16), default=1,
+                     metavar="N", help="the shot and bombs move N times as far a tick")
+    lab.add_argument("--shadow", action="store_true",
+                     help="score every tick's contacts against the exact oracle")
     run.add_argument("--record", metavar="FILE", help="save the run as a replay (JSON)")
 
     check = sub.add_parser("replay", help="run replays headless and check their checkpoints")
@@ -116,14 +128,19 @@ def cmd_run(args: argparse.Namespace) -> int:
     from invaders.app.outputs import REPLAY_SUFFIXES, REPORT_SUFFIXES, check_output, writing
     from invaders.app.signals import StopSignals
     from invaders.app.summary import summary_lines
-    from invaders.game.world import World
     from invaders.lab.autopilot import Autopilot
 
     if args.report is not None:
         check_output(args.report, "report", REPORT_SUFFIXES)
     if args.record is not None:
         check_output(args.record, "replay", REPLAY_SUFFIXES)
-    world = World(seed=args.seed, broadphase=args.broadphase, cell=args.cell)
+    world = _lab_world(args)
+    shadow = None
+    if args.shadow:
+        from invaders.lab.shadow import Shadow
+
+        shadow = Shadow(world.rules)  # the game's own rules: the truth, whatever the method
+        world.detector.observers.append(shadow)
     source = Autopilot(args.seed, args.autopilot) if args.autopilot else Idle()
     recorder = None
     if args.record is not None:
@@ -147,8 +164,41 @@ def cmd_run(args: argparse.Namespace) -> int:
     name = f"autopilot {args.autopilot}" if args.autopilot else "none"
     for line in summary_lines(result, args.seed, args.broadphase, name):
         print(line)
+    if shadow is not None:
+        score = shadow.finish()
+        rate = f"{score.errors / score.true:.4f}" if score.true else "-"
+        print(f"shadow ({_method_label(args)}): {score.true} true contacts; on time "
+              f"{score.on_time}, late {score.late}, missed {score.missed}, false "
+              f"{score.false}; {rate} errors per true contact")
     print(world.state_hash())
     return 0
+
+
+def _method_label(args: argparse.Namespace) -> str:
+    return (f"{args.quick}/{args.thorough}/{args.motion}"
+            + (f" at {args.speed_mult}x" if args.speed_mult > 1 else ""))
+
+
+def _lab_world(args: argparse.Namespace):
+    """The run's world: the default detector, or the lab's choices (projectiles at
+    --speed-mult times their speed go into the config, so a recording keeps them)."""
+    import dataclasses
+
+    from invaders.game.config import GameConfig
+    from invaders.game.world import World
+
+    config = GameConfig()
+    m = args.speed_mult
+    if m > 1:
+        s = config.speeds
+        config = dataclasses.replace(config, speeds=dataclasses.replace(
+            s, shot=s.shot * m, bomb=s.bomb * m, bomb_fast=s.bomb_fast * m))
+    if (args.quick, args.thorough, args.motion) == ("rect", "mask", "auto") and m == 1:
+        return World(seed=args.seed, config=config, broadphase=args.broadphase, cell=args.cell)
+    from invaders.lab.matrix import Method, detector_for
+
+    method = Method(args.broadphase, args.cell, args.quick, args.thorough, args.motion)
+    return World(seed=args.seed, config=config, detector=detector_for(method, m))
 
 
 def cmd_play(args: argparse.Namespace) -> int:

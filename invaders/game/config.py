@@ -130,10 +130,10 @@ class Speeds:
         check_ranges(self, "config.speeds")
 
     cannon: int = within(1, 1, 32)
-    shot: int = within(4, 1, 64)
-    bomb: int = within(4, 1, 64)
+    shot: int = within(4, 1, 128)
+    bomb: int = within(4, 1, 128)
     # from the moment 8 or fewer aliens remain (UNCERTAIN 13.3: we take <= 8)
-    bomb_fast: int = within(5, 1, 64)
+    bomb_fast: int = within(5, 1, 128)
     bomb_fast_at: int = within(8, 0, 55)
     rack_step: int = within(2, 1, 32)
     rack_step_last_right: int = within(3, 1, 32)  # one alien left, moving right
