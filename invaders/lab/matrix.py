@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 from invaders.engine.detector import Detector, make_broadphase
 from invaders.engine.grid import DEFAULT_CELL
 from invaders.engine.rules import Motion, RuleTable, Shape
-from invaders.game.config import DEFAULT_CONFIG
+from invaders.game.config import DEFAULT_CONFIG, GameConfig
 from invaders.game.rules import make_rules
 from invaders.game.tuning import cheapest_rules
 from invaders.lab.methods import QUICK_TESTS
@@ -48,14 +48,15 @@ DEFAULT_NARROW = ("rect", "mask", "auto", 1)
 DEFAULT = Method()
 
 
-def rules_for(method: Method, multiplier: int = 1) -> RuleTable:
+def rules_for(method: Method, multiplier: int = 1,
+              config: GameConfig = DEFAULT_CONFIG) -> RuleTable:
     """The game's rules table as the method models it (LANDING entries stay as they are:
-    where things land is their definition)."""
+    where things land is their definition); `config` has the projectiles' speeds at 1x."""
     if method.motion == "auto":
-        rules = cheapest_rules(multiplier * method.sampling)
+        rules = cheapest_rules(multiplier * method.sampling, config)
     else:
         motion = Motion.SWEPT if method.motion == "swept" else Motion.DISCRETE
-        rules = make_rules(DEFAULT_CONFIG).map(
+        rules = make_rules(config).map(
             lambda r: r if r.motion is Motion.LANDING else replace(r, motion=motion))
     if method.thorough == "none":
         rules = rules.map(lambda r: replace(r, a_shape=Shape.BOX, b_shape=Shape.BOX))
@@ -63,12 +64,13 @@ def rules_for(method: Method, multiplier: int = 1) -> RuleTable:
 
 
 def detector_for(method: Method, multiplier: int = 1, cell: int | None = None,
-                 rules: RuleTable | None = None) -> Detector:
+                 rules: RuleTable | None = None,
+                 config: GameConfig = DEFAULT_CONFIG) -> Detector:
     """A Detector for the method; `cell` replaces an automatic cell size once chosen, and
     `rules` (a scene's own zones) the game's table before the method models it."""
     size = method.cell or cell or DEFAULT_CELL
     quick = None if method.quick == "rect" else QUICK_TESTS[method.quick]
-    table = rules_for(method, multiplier)
+    table = rules_for(method, multiplier, config)
     if rules is not None:
         zones = {(r.a, r.b): r.zone for r in rules}
         table = table.map(lambda r: replace(r, zone=zones[(r.a, r.b)]))

@@ -20,16 +20,19 @@ from typing import NamedTuple
 
 from invaders.engine.body import Body
 from invaders.engine.broadphase import Scene
-from invaders.engine.predicates import solid_mask, substeps, swept_box_overlap
+from invaders.engine.predicates import round_div, solid_mask, substeps, swept_box_overlap
 from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
 
 
 class TrueContact(NamedTuple):
-    """A pair that touched during the tick, and when it first touched (0 to 1)."""
+    """A pair that touched during the tick, when it first touched (0 to 1), and one pixel
+    the two shared then (where a lab marks a contact a method got wrong)."""
 
     time: Fraction
     a_id: int
     b_id: int
+    x: int = 0
+    y: int = 0
 
 
 def _mask(body: Body, shape: Shape):
@@ -42,11 +45,18 @@ def _start(body: Body, tick: int) -> tuple[int, int]:
 
 def first_touch(a: Body, b: Body, rule: PairRule, tick: int) -> Fraction | None:
     """When a and b first touch, pixel-exact, during the tick (None: they do not)."""
+    touch = _touch(a, b, rule, tick)
+    return None if touch is None else touch[0]
+
+
+def _touch(a: Body, b: Body, rule: PairRule, tick: int) -> tuple[Fraction, int, int] | None:
+    """The first touch's time and a pixel the two share then (screen coordinates; a's
+    position at that instant rounded along its own motion)."""
     a_mask = _mask(a, rule.shape_of(a.kind))
     b_mask = _mask(b, rule.shape_of(b.kind))
     if rule.motion is Motion.LANDING:
         hit = a_mask.overlap(b_mask, (b.x - a.x, b.y - a.y))
-        return None if hit is None else Fraction(1)
+        return None if hit is None else (Fraction(1), a.x + hit[0], a.y + hit[1])
     ax0, ay0 = _start(a, tick)
     bx0, by0 = _start(b, tick)
     ox, oy = bx0 - ax0, by0 - ay0
@@ -61,8 +71,13 @@ def first_touch(a: Body, b: Body, rule: PairRule, tick: int) -> Fraction | None:
     first = 0 if steps == 0 or a.shaped_tick == tick or b.shaped_tick == tick else 1
     for i in range(first, steps + 1):
         sx, sy = path[i]
-        if a_mask.overlap(b_mask, (ox + sx, oy + sy)) is not None:
-            return Fraction(i, steps) if steps else Fraction(0)
+        hit = a_mask.overlap(b_mask, (ox + sx, oy + sy))
+        if hit is not None:
+            if not steps:
+                return Fraction(0), a.x + hit[0], a.y + hit[1]
+            x = ax0 + round_div(i * (a.x - ax0), steps)
+            y = ay0 + round_div(i * (a.y - ay0), steps)
+            return Fraction(i, steps), x + hit[0], y + hit[1]
     return None
 
 
@@ -73,9 +88,9 @@ def _columns(body: Body, tick: int) -> tuple[int, int]:
 
 
 def all_touches(scene: Scene, rules: RuleTable) -> list[tuple[Fraction, int, int, PairRule,
-                                                             int]]:
-    """Every pair that touches in the tick: (time, low id, high id, entry, low's kind), in
-    time order.
+                                                             int, int, int]]:
+    """Every pair that touches in the tick: (time, low id, high id, entry, low's kind, and a
+    pixel they share), in time order.
 
     A pair whose bodies never share a screen column during the tick cannot touch, and is
     passed over by a bisection on left edges (so storms of thousands stay tractable).
@@ -97,9 +112,10 @@ def all_touches(scene: Scene, rules: RuleTable) -> list[tuple[Fraction, int, int
                 if b_right <= left:
                     continue
                 low, high = (a, b) if a.id < b.id else (b, a)
-                time = first_touch(low, high, rule, tick)
-                if time is not None:
-                    found.append((time, low.id, high.id, rule, low.kind))
+                touch = _touch(low, high, rule, tick)
+                if touch is not None:
+                    time, x, y = touch
+                    found.append((time, low.id, high.id, rule, low.kind, x, y))
     found.sort(key=lambda touch: touch[:3])
     return found
 
@@ -109,10 +125,10 @@ def true_contacts(scene: Scene, rules: RuleTable) -> list[TrueContact]:
     touches walked in time order, each spent body stopping at its first contact."""
     stopped: set[int] = set()
     out = []
-    for time, low, high, rule, low_kind in all_touches(scene, rules):
+    for time, low, high, rule, low_kind, x, y in all_touches(scene, rules):
         if low in stopped or high in stopped:
             continue
-        out.append(TrueContact(time, low, high))
+        out.append(TrueContact(time, low, high, x, y))
         in_order = low_kind == rule.a  # in a same-kind entry the low id is side a
         if rule.spends_a if in_order else rule.spends_b:
             stopped.add(low)

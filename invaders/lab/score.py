@@ -45,12 +45,17 @@ class Score:
             self.examples.append(text)
 
 
+Judged = tuple[str, Pair, int]  # outcome (on time, late, missed, false), pair, tick it began
+
+
 class Scorer:
     """Feed `truth(tick, pairs)` for every tick, `reported(start, end, pairs)` for every
-    window a method ran over (ticks start+1..end), then `finish()`."""
+    window a method ran over (ticks start+1..end), then `finish()`. With `log`, each
+    judgement is also appended to it as it is made (a live lab marks them)."""
 
-    def __init__(self) -> None:
+    def __init__(self, log: list[Judged] | None = None) -> None:
         self.score = Score()
+        self.log = log
         self._active: dict[Pair, Episode] = {}
         self._closed: dict[Pair, list[Episode]] = {}  # ended, still open to a late window
 
@@ -72,6 +77,8 @@ class Scorer:
             if episode is None:
                 self.score.false += 1
                 self.score.note(f"false: {pair} in ticks {start + 1}..{end}")
+                if self.log is not None:
+                    self.log.append(("false", pair, end))
             elif episode.found_at is None:
                 episode.found_at = end
                 episode.on_time = episode.start > start
@@ -104,13 +111,18 @@ class Scorer:
         score = self.score
         if episode.found_at is None:
             score.missed += 1
+            outcome = "missed"
             score.note(f"missed: {pair} touching in ticks {episode.start}..{episode.end}")
         elif episode.on_time:
             score.on_time += 1
+            outcome = "on time"
         else:
             score.late += 1
+            outcome = "late"
             score.note(f"late: {pair} began at tick {episode.start}, "
                        f"found at {episode.found_at}")
+        if self.log is not None:
+            self.log.append((outcome, pair, episode.start))
 
     def finish(self) -> Score:
         for pair, episode in list(self._active.items()):
