@@ -42,6 +42,24 @@ def _int_in(name: str, low: int, high: int):
     return parse
 
 
+def _lab_arguments(parser: argparse.ArgumentParser) -> argparse._ArgumentGroup:
+    """The lab's choices, the same for a window and a headless run."""
+    lab = parser.add_argument_group("the lab", "detect another way than the default, and "
+                                    "see what that costs and misses")
+    lab.add_argument("--quick", choices=("rect", "circle"), default="rect",
+                     help="the quick test: boxes, or bounding circles")
+    lab.add_argument("--thorough", choices=("mask", "none"), default="mask",
+                     help="the thorough test: pixel masks, or none (boxes are the shapes)")
+    lab.add_argument("--motion", choices=("auto", "discrete", "swept"), default="auto",
+                     help="per entry as proven (auto), every entry discrete, or swept")
+    lab.add_argument("--sample", type=int, choices=(1, 2, 4, 8), default=1, metavar="K",
+                     help="detect every K-th tick only (1, 2, 4 or 8)")
+    lab.add_argument("--speed-mult", type=int, choices=(1, 2, 4, 8, 16), default=1,
+                     metavar="N", help="the shot and bombs move N times as far a tick "
+                     "(1, 2, 4, 8 or 16)")
+    return lab
+
+
 def build_parser() -> Parser:
     parser = Parser(
         prog="invaders",
@@ -69,6 +87,9 @@ def build_parser() -> Parser:
     play.add_argument("--replay", metavar="FILE", help="watch a replay instead of playing")
     play.add_argument("--speed", type=_int_in("--speed", 1, 64), default=1,
                       help="replay speed multiplier")
+    _lab_arguments(play).add_argument(
+        "--lab", action="store_true",
+        help="open the lab panel beside the playfield (F4 in any game; a lab option opens it)")
 
     run = sub.add_parser("run", help="run headless and print a summary and the state hash")
     run.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=3600)
@@ -82,16 +103,7 @@ def build_parser() -> Parser:
     run.add_argument("--cell", type=_int_in("--cell", 1, 1024), default=DEFAULT_CELL,
                      help="grid cell size in px")
     run.add_argument("--report", metavar="FILE", help="per-tick counters, .csv or .jsonl")
-    lab = run.add_argument_group("the lab", "detect another way than the default, and see "
-                                 "what that costs and misses")
-    lab.add_argument("--quick", choices=("rect", "circle"), default="rect",
-                     help="the quick test: boxes, or bounding circles")
-    lab.add_argument("--thorough", choices=("mask", "none"), default="mask",
-                     help="the thorough test: pixel masks, or none (boxes are the shapes)")
-    lab.add_argument("--motion", choices=("auto", "discrete", "swept"), default="auto",
-                     help="per entry as proven (auto), every entry discrete, or swept")
-    lab.add_argument("--speed-mult", type=_int_in("--speed-mult", 1, 16), default=1,
-                     metavar="N", help="the shot and bombs move N times as far a tick")
+    lab = _lab_arguments(run)
     lab.add_argument("--shadow", action="store_true",
                      help="score every tick's contacts against the exact oracle")
     run.add_argument("--record", metavar="FILE", help="save the run as a replay (JSON)")
@@ -134,24 +146,31 @@ def cmd_run(args: argparse.Namespace) -> int:
         check_output(args.report, "report", REPORT_SUFFIXES)
     if args.record is not None:
         check_output(args.record, "replay", REPLAY_SUFFIXES)
-    world = _lab_world(args)
-    shadow = None
-    if args.shadow:
-        from invaders.lab.shadow import Shadow
+    from invaders.game.world import World
 
-        shadow = Shadow(world.rules)  # the game's own rules: the truth, whatever the method
-        world.detector.observers.append(shadow)
+    world = World(seed=args.seed, broadphase=args.broadphase, cell=args.cell)
+    base = world.config
+    choice = _lab_choice(args)
+    lab = choice.speed > 1 or not choice.is_default
+    shadow = None
+    if lab or args.shadow:
+        from invaders.lab.live import install
+
+        detector = install(world, choice, base, shadow=args.shadow)
+        shadow = getattr(detector, "shadow", None)
     source = Autopilot(args.seed, args.autopilot) if args.autopilot else Idle()
     recorder = None
     if args.record is not None:
         from invaders.app.recording import Recorder
 
-        recorder = Recorder(world, args.record, save_every=3600)
+        recorder = Recorder(world, args.record, save_every=3600, config=base)
+        if lab:  # the replay keeps the method, so it plays back as this run went
+            recorder.switch(choice.to_dict())
     with StopSignals() as signals:
         try:
             with writing(args.report or args.record or "", "report or replay"):
                 result = run(world, source, args.ticks, args.report, recorder,
-                             stop=lambda: signals.received is not None)
+                             stop=lambda: signals.received is not None, columns=shadow)
         finally:
             if recorder is not None:  # the world is between ticks: a whole replay
                 with writing(args.record, "replay"):
@@ -174,48 +193,40 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _lab_choice(args: argparse.Namespace):
+    """The run's collision method and projectile speed, as the lab names them."""
+    from invaders.engine.grid import DEFAULT_CELL
+    from invaders.lab.live import Choice
+
+    return Choice(args.broadphase, getattr(args, "cell", DEFAULT_CELL), args.quick,
+                  args.thorough, args.motion, args.sample, args.speed_mult)
+
+
 def _method_label(args: argparse.Namespace) -> str:
     return (f"{args.quick}/{args.thorough}/{args.motion}"
+            + (f" every {args.sample}" if args.sample > 1 else "")
             + (f" at {args.speed_mult}x" if args.speed_mult > 1 else ""))
-
-
-def _lab_world(args: argparse.Namespace):
-    """The run's world: the default detector, or the lab's choices (projectiles at
-    --speed-mult times their speed go into the config, so a recording keeps them)."""
-    import dataclasses
-
-    from invaders.game.config import GameConfig
-    from invaders.game.world import World
-
-    config = GameConfig()
-    m = args.speed_mult
-    if m > 1:
-        s = config.speeds
-        config = dataclasses.replace(config, speeds=dataclasses.replace(
-            s, shot=s.shot * m, bomb=s.bomb * m, bomb_fast=s.bomb_fast * m))
-    if (args.quick, args.thorough, args.motion) == ("rect", "mask", "auto") and m == 1:
-        return World(seed=args.seed, config=config, broadphase=args.broadphase, cell=args.cell)
-    from invaders.lab.matrix import Method, detector_for
-
-    method = Method(args.broadphase, args.cell, args.quick, args.thorough, args.motion)
-    return World(seed=args.seed, config=config, detector=detector_for(method, m))
 
 
 def cmd_play(args: argparse.Namespace) -> int:
     from invaders.app.outputs import PICTURE_SUFFIXES, REPLAY_SUFFIXES, check_output
     from invaders.app.play import play, screenshot
 
+    choice = _lab_choice(args)
+    lab = choice if args.lab or choice.speed > 1 or not choice.is_default else None
     if args.screenshot:
         check_output(args.screenshot, "screenshot", PICTURE_SUFFIXES)
         return screenshot(args.screenshot, seed=args.seed, ticks=args.ticks, scale=args.scale,
                           overlay=args.overlay, broadphase=args.broadphase,
-                          attract=args.attract)
+                          attract=args.attract, lab=lab)
     replay = None
     if args.replay:
+        from invaders.app.replay_check import check_switches
         from invaders.game.replay import ReplayError, load
 
         try:
             replay = load(args.replay)
+            check_switches(replay)
         except ReplayError as err:
             raise UsageError(f"{args.replay}: {err}") from None
     if args.record:
@@ -225,7 +236,7 @@ def cmd_play(args: argparse.Namespace) -> int:
     try:
         return play(seed=args.seed, scale=args.scale, broadphase=args.broadphase,
                     overlay=args.overlay, record=args.record, replay=replay, speed=args.speed,
-                    mute=args.mute)
+                    mute=args.mute, lab=lab)
     except pygame.error as err:
         raise UsageError(f"cannot open a window ({err}); without a display, run the game "
                          "headless with 'invaders run'") from None

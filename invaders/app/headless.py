@@ -44,15 +44,23 @@ class RunResult:
     events: Counter = field(default_factory=Counter)
 
 
+class Columns(Protocol):
+    """More columns for the report: their names, and each tick's values."""
+
+    names: tuple[str, ...]
+
+    def values(self) -> tuple[int, ...]: ...
+
+
 def run(world: World, source: InputSource, ticks: int, report: str | None = None,
         recorder: Recording | None = None,
-        stop: Callable[[], bool] | None = None) -> RunResult:
+        stop: Callable[[], bool] | None = None, columns: Columns | None = None) -> RunResult:
     """Step `world` `ticks` times with `source`'s input, or until `stop()` says so (asked
     between ticks); optionally write the per-tick report (atomically: the file appears
     whole when the run ends) and record the run as a replay. Keeps nothing per tick."""
     table = CounterTable()
     events: Counter = Counter()
-    with _report(report) as writer:
+    with _report(report, columns.names if columns is not None else ()) as writer:
         for _ in range(ticks):
             if stop is not None and stop():
                 break
@@ -65,15 +73,16 @@ def run(world: World, source: InputSource, ticks: int, report: str | None = None
             if names:
                 events.update(names)
             if writer is not None:
-                writer.row(result.tick, result.stats, names)
+                writer.row(result.tick, result.stats, names,
+                           columns.values() if columns is not None else ())
     return RunResult(world, table, events)
 
 
 @contextlib.contextmanager
-def _report(path: str | None) -> Iterator[ReportWriter | None]:
+def _report(path: str | None, extra: tuple[str, ...]) -> Iterator[ReportWriter | None]:
     if path is None:
         yield None
         return
     fmt = report_format(path)
     with atomic_writer(path) as handle:
-        yield ReportWriter(handle, fmt)
+        yield ReportWriter(handle, fmt, extra)

@@ -11,10 +11,11 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Protocol
+from typing import Any, Protocol
 
 from invaders.atomic import clean_stale, write_atomic
-from invaders.game.replay import CHECKPOINT_EVERY, Checkpoint, Replay, segment_line
+from invaders.game.config import GameConfig
+from invaders.game.replay import CHECKPOINT_EVERY, Checkpoint, Replay, Switch, segment_line
 from invaders.game.world import World
 
 
@@ -27,14 +28,16 @@ class Recorder:
     `save()` whenever the file should catch up (it does every `save_every` ticks)."""
 
     def __init__(self, world: World, path: str | Path | None = None,
-                 save_every: int = 180) -> None:
+                 save_every: int = 180, config: GameConfig | None = None) -> None:
         self.world = world
         self.path = path
         self.save_every = save_every
-        self.replay = Replay(world.seed, world.config)
+        # The game's config; a lab that sped the projectiles up records that as a switch.
+        self.replay = Replay(world.seed, config or world.config)
         first = Checkpoint.of(world)
         self.replay.checkpoints.append(first)
         self._segment: list[list[int]] = []  # input runs since the last checkpoint
+        self._switches: list[Switch] = []  # lab switches since the last checkpoint
         self._unsaved: list[str] = [segment_line([], first)]
         self._started = False
 
@@ -50,11 +53,18 @@ class Recorder:
         if self.path is not None and self.world.tick % self.save_every == 0:
             self.save()
 
+    def switch(self, choice: dict[str, Any]) -> None:
+        """The lab's choice changed: it takes effect before the next step."""
+        entry = (self.world.tick, dict(choice))
+        self.replay.switches.append(entry)
+        self._switches.append(entry)
+
     def _checkpoint(self) -> None:
         checkpoint = Checkpoint.of(self.world)
         self.replay.checkpoints.append(checkpoint)
-        self._unsaved.append(segment_line(self._segment, checkpoint))
+        self._unsaved.append(segment_line(self._segment, checkpoint, self._switches))
         self._segment = []
+        self._switches = []
 
     def finished(self) -> Replay:
         """The replay so far, closed with a checkpoint at the current tick."""

@@ -10,6 +10,7 @@ from invaders.app.outputs import REPLAY_SUFFIXES, OutputError, check_output, wri
 from invaders.app.processing import working_on
 from invaders.app.recording import save_replay
 from invaders.game.replay import Replay, ReplayError, load, replay_paths, run
+from invaders.lab.live import Choice, replay_switch
 
 UPDATED = -1
 
@@ -26,6 +27,7 @@ def check_all(args: list[str], update: bool = False, broadphase: str = "grid") -
     for path in paths:
         try:
             replay = load(path)
+            check_switches(replay)
             if update:
                 check_output(str(path), "replay", REPLAY_SUFFIXES)
         except (ReplayError, OutputError) as err:
@@ -43,10 +45,20 @@ def check_all(args: list[str], update: bool = False, broadphase: str = "grid") -
     return worst
 
 
+def check_switches(replay: Replay) -> None:
+    """ReplayError naming the first lab switch the lab cannot put into a game."""
+    for tick, data in replay.switches:
+        try:
+            Choice.from_dict(data)
+        except ValueError as err:
+            raise ReplayError(f"lab switch at tick {tick}: {err}") from None
+
+
 def _check(path: Path, replay: Replay, broadphase: str, update: bool) -> int:
     """Run one replay: 0 it passed (or needed no update), 1 it differed, UPDATED."""
     start = time.perf_counter()
-    result, produced = run(replay, broadphase, recompute=update)
+    result, produced = run(replay, broadphase, recompute=update,
+                           switch=replay_switch(replay.config))
     seconds = time.perf_counter() - start
     if update:
         if result.mismatch is None:

@@ -22,20 +22,24 @@ def report_format(path: str) -> str:
 
 
 class ReportWriter:
-    """Streams one row per tick to an open file."""
+    """Streams one row per tick to an open file; `extra` names columns after the counters
+    (a lab's running score, say) whose values each row brings."""
 
-    def __init__(self, handle: IO[str], fmt: str) -> None:
+    def __init__(self, handle: IO[str], fmt: str, extra: tuple[str, ...] = ()) -> None:
         self.handle = handle
         self.fmt = fmt
+        self.extra = extra
         if fmt == ".csv":
-            handle.write(",".join(COLUMNS) + "\n")
+            handle.write(",".join((*COLUMNS, *extra)) + "\n")
 
-    def row(self, tick: int, stats: CollisionStats, events: tuple[str, ...]) -> None:
+    def row(self, tick: int, stats: CollisionStats, events: tuple[str, ...],
+            extra: tuple[int, ...] = ()) -> None:
         if self.fmt == ".csv":
-            cells = [str(tick), *map(str, stats), " ".join(events)]
+            cells = [str(tick), *map(str, stats), " ".join(events), *map(str, extra)]
             self.handle.write(",".join(cells) + "\n")
         else:
-            record = {"tick": tick, **stats._asdict(), "events": list(events)}
+            record = {"tick": tick, **stats._asdict(), "events": list(events),
+                      **dict(zip(self.extra, extra, strict=True))}
             self.handle.write(json.dumps(record, separators=(",", ":")) + "\n")
 
 

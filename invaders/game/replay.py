@@ -7,7 +7,10 @@ first and what.
 
 Version 2 (what this program writes) is JSON Lines: a header line (format, version,
 program, seed, config), then one line per checkpoint holding the input runs since the
-previous checkpoint and the checkpoint itself. A recorder only ever appends whole lines, so
+previous checkpoint and the checkpoint itself, and, when the player switched the collision
+method in the lab during them, each switch and the tick it took effect (what a switch means
+is the lab's to say: the game only bounds it and hands it to whoever runs the replay). A
+recorder only ever appends whole lines, so
 saving costs the same at any length; a last line cut short (no newline: a write that was
 interrupted) is ignored, so a recording is always a valid replay of a prefix. Version 1 (one
 JSON object holding everything) is still read. Reading never trusts a number before it has
@@ -22,7 +25,7 @@ import json
 import os
 import re
 import stat
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -42,6 +45,9 @@ MAX_TICKS = 10_000_000  # 46 hours of play: anything longer is a damaged file
 MAX_FILE_BYTES = 64 * 1024 * 1024  # about 8 million ticks of play
 MAX_RUNS = 1_000_000  # input changes; a recorded game makes one every 7 to 12 ticks
 MAX_DIGITS = 20  # the longest number a field holds (a 63-bit seed) has 19 digits
+MAX_SWITCHES = 1000  # lab switches in one line: a person presses keys a few times a second
+MAX_SWITCH_FIELDS = 16
+Switch = tuple[int, dict[str, Any]]  # a lab choice, and the tick before whose step it began
 HASH = re.compile(r"^[0-9a-f]{32}$")
 GROUP_HASH = re.compile(r"^[0-9a-f]{16}$")
 COUNT_NAMES = frozenset(kind.name.lower() for kind in Kind)
@@ -91,6 +97,7 @@ class Replay:
     inputs: list[list[int]] = field(default_factory=list)  # [bits, count] runs
     checkpoints: list[Checkpoint] = field(default_factory=list)
     program: str = f"invaders {__version__}"
+    switches: list[Switch] = field(default_factory=list)  # lab choices, by tick
 
     @property
     def ticks(self) -> int:
@@ -129,13 +136,20 @@ class Replay:
                 need -= take
                 if pending[1] == 0:
                     pending = None
-            yield segment_line(segment, checkpoint)
+            yield segment_line(segment, checkpoint,
+                               [s for s in self.switches if start <= s[0] < checkpoint.tick])
             start = checkpoint.tick
 
 
-def segment_line(runs: list[list[int]], checkpoint: Checkpoint) -> str:
-    """One line of a version-2 file: the input runs up to a checkpoint, and the checkpoint."""
-    return _line({"inputs": runs, "checkpoint": dataclasses.asdict(checkpoint)})
+def segment_line(runs: list[list[int]], checkpoint: Checkpoint,
+                 switches: list[Switch] | tuple[()] = ()) -> str:
+    """One line of a version-2 file: the input runs up to a checkpoint, the lab switches
+    among them (if any), and the checkpoint."""
+    data: dict[str, Any] = {"inputs": runs}
+    if switches:
+        data["lab"] = [[tick, choice] for tick, choice in switches]
+    data["checkpoint"] = dataclasses.asdict(checkpoint)
+    return _line(data)
 
 
 def _line(data: dict[str, Any]) -> str:
@@ -235,6 +249,28 @@ def _runs(inputs: Any, where: str, total: int, runs: list[list[int]]) -> int:
     return total
 
 
+def _switches(listed: Any, where: str, start: int, end: int, out: list[Switch]) -> None:
+    """Append checked lab switches: [tick, {name: word or number}], ticks in the line's
+    span and increasing (their meaning is checked by whoever applies them)."""
+    _need(isinstance(listed, list) and 0 < len(listed) <= MAX_SWITCHES,
+          f"{where} lab must be a list of 1 to {MAX_SWITCHES} [tick, choice] switches")
+    for i, item in enumerate(listed):
+        name = f"{where} lab switch {i}"
+        _need(isinstance(item, list) and len(item) == 2, f"{name} must be [tick, choice]")
+        tick = _int(item[0], f"{name} tick", start, max(start, end - 1))
+        _need(not out or out[-1][0] <= tick, f"{name}: switch ticks must not decrease")
+        choice = item[1]
+        _need(isinstance(choice, dict) and len(choice) <= MAX_SWITCH_FIELDS,
+              f"{name} choice must be an object of at most {MAX_SWITCH_FIELDS} fields")
+        for key, value in choice.items():
+            _need(len(key) <= 32, f"{name} has a field name longer than 32 characters")
+            _need((type(value) is str and len(value) <= 32) or type(value) is int,
+                  f"{name} field {key!r} must be a short word or a whole number")
+            if type(value) is int:
+                _int(value, f"{name} field {key!r}", -(2**31), 2**31)
+        out.append((tick, dict(choice)))
+
+
 def _header(data: Any) -> tuple[int, int, GameConfig, str]:
     """(version, seed, config, program) from a file's first object."""
     _need(isinstance(data, dict), "the file must hold a JSON object")
@@ -251,12 +287,13 @@ def _header(data: Any) -> tuple[int, int, GameConfig, str]:
 
 
 def _finish(seed: int, config: GameConfig, runs: list[list[int]],
-            checkpoints: list[Checkpoint], program: str, ticks: int) -> Replay:
+            checkpoints: list[Checkpoint], program: str, ticks: int,
+            switches: list[Switch] | None = None) -> Replay:
     _need(bool(checkpoints), "there is no checkpoint")
     seen = [c.tick for c in checkpoints]
     _need(seen == sorted(set(seen)), "checkpoint ticks must strictly increase")
     _need(seen[-1] == ticks, "the last checkpoint must be at the last tick")
-    return Replay(seed, config, runs, checkpoints, program)
+    return Replay(seed, config, runs, checkpoints, program, switches or [])
 
 
 def parse(data: Any) -> Replay:
@@ -281,18 +318,22 @@ def parse_lines(lines: list[str]) -> Replay:
     _, seed, config, program = _header(_decode(lines[0], "the header line"))
     runs: list[list[int]] = []
     checkpoints: list[Checkpoint] = []
+    switches: list[Switch] = []
     total = 0
     for number, line in enumerate(lines[1:], 2):
         where = f"line {number}"
         data = _decode(line, where)
-        _need(isinstance(data, dict) and set(data) == {"inputs", "checkpoint"},
-              f"{where} must hold exactly inputs and checkpoint")
+        _need(isinstance(data, dict) and set(data) - {"lab"} == {"inputs", "checkpoint"},
+              f"{where} must hold exactly inputs and checkpoint (and lab switches)")
+        start = total
         total = _runs(data["inputs"], where, total, runs)
+        if "lab" in data:
+            _switches(data["lab"], where, start, total, switches)
         checkpoint = _checkpoint(data["checkpoint"], f"{where} checkpoint", MAX_TICKS)
         _need(checkpoint.tick == total,
               f"{where}: its checkpoint is at tick {checkpoint.tick}, its inputs end at {total}")
         checkpoints.append(checkpoint)
-    return _finish(seed, config, runs, checkpoints, program, total)
+    return _finish(seed, config, runs, checkpoints, program, total, switches)
 
 
 def _bounded_int(text: str) -> int:
@@ -383,14 +424,21 @@ class CheckResult:
     mismatch: str | None = None  # the first checkpoint that differs, described
 
 
-def run(replay: Replay, broadphase: str = "grid",
-        recompute: bool = False) -> tuple[CheckResult, list[Checkpoint]]:
+def run(replay: Replay, broadphase: str = "grid", recompute: bool = False,
+        switch: Callable[[World, dict[str, Any]], None] | None = None,
+        ) -> tuple[CheckResult, list[Checkpoint]]:
     """Run a replay headless at full speed, checking every field of every checkpoint.
 
     Returns the result and the checkpoints this run produced (for --update). With
-    `recompute`, it does not stop at the first mismatch.
+    `recompute`, it does not stop at the first mismatch. A replay with lab switches needs
+    `switch`, which puts each into the world before the step of its tick (ReplayError
+    without it, or when it refuses one with ValueError).
     """
+    _need(not replay.switches or switch is not None,
+          "the replay switches collision methods in the lab: it needs the lab to run")
     world = World(replay.seed, replay.config, broadphase=broadphase)
+    pending = iter(replay.switches)
+    upcoming = next(pending, None)
     expected = {c.tick: c for c in replay.checkpoints}
     produced: list[Checkpoint] = []
     mismatch = None
@@ -408,6 +456,12 @@ def run(replay: Replay, broadphase: str = "grid",
 
     if visit():
         for bits in replay.actions():
+            while upcoming is not None and upcoming[0] == world.tick:
+                try:
+                    switch(world, upcoming[1])  # type: ignore[misc]
+                except ValueError as err:
+                    raise ReplayError(f"lab switch at tick {upcoming[0]}: {err}") from None
+                upcoming = next(pending, None)
             world.step(bits)
             if world.tick in expected and not visit():
                 break
