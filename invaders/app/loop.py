@@ -1,8 +1,10 @@
 """The fixed-step loop: bank real time, run whole ticks, cap catch-up, hand rendering alpha.
 
-Only this module measures real time. Time is banked in integer units (nanoseconds times the
-tick rate), so the number of ticks run for a given sequence of clock readings is exact, not
-subject to float drift: the same clock gives the same ticks on every machine.
+Only this module measures real time for the game (the lab's panel times detection with the
+same clock, and what it measures never reaches the game's state). Time is banked in integer
+units (nanoseconds times the tick rate), so the number of ticks run for a given sequence of
+clock readings is exact, not subject to float drift: the same clock gives the same ticks on
+every machine.
 """
 
 from __future__ import annotations

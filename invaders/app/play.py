@@ -16,10 +16,11 @@ from collections.abc import Callable, Iterator
 import pygame
 
 from invaders.app.attract import Attract, card, demo_world
+from invaders.app.labpanel import LabControl, PanelPainter, draw_marks, panel_width
 from invaders.app.loop import FixedStepLoop
 from invaders.app.outputs import writing
 from invaders.app.recording import Recorder
-from invaders.app.render import CandidateWatch, Renderer
+from invaders.app.render import CandidateWatch, Renderer, View
 from invaders.app.signals import StopSignals
 from invaders.app.sound import SoundBoard
 from invaders.atomic import atomic_writer
@@ -28,6 +29,7 @@ from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.replay import Replay
 from invaders.game.world import Phase, TickReport, World
 from invaders.lab.autopilot import Autopilot
+from invaders.lab.live import Choice
 
 LEFT_KEYS = (pygame.K_LEFT, pygame.K_a)
 RIGHT_KEYS = (pygame.K_RIGHT, pygame.K_d)
@@ -60,9 +62,11 @@ class Session:
     def __init__(self, world: World, target: pygame.Surface, clock: Callable[[], float],
                  scale: int = 3, replay: Replay | None = None, speed: int = 1,
                  recorder: Recorder | None = None, overlay: bool = False,
-                 pilot: Autopilot | None = None, sounds: SoundBoard | None = None) -> None:
+                 pilot: Autopilot | None = None, sounds: SoundBoard | None = None,
+                 lab: Choice | None = None) -> None:
         self.world = world
         self.target = target
+        self.clock = clock
         self.pilot = pilot  # plays instead of the keys (the attract cycle's demo)
         self.sounds = sounds
         self.loop = FixedStepLoop(clock, world.config.tick_hz * speed,
@@ -70,6 +74,7 @@ class Session:
         self.renderer = Renderer(scale)
         self.inputs: Iterator[int] | None = replay.actions() if replay else None
         self.expected = {c.tick: c.hash for c in replay.checkpoints} if replay else {}
+        self.switches = list(reversed(replay.switches)) if replay else []  # lab, by tick
         self.replay_done = False
         self.first_difference: int | None = None  # the first checkpoint tick that differed
         self.start_requested = False  # Enter after a replay's end: the caller starts a game
@@ -83,6 +88,27 @@ class Session:
         self.set_overlay(overlay)
         self.paused = False
         self.report: TickReport | None = None
+        self.lab: LabControl | None = None
+        self.lab_open = False
+        self.painter = PanelPainter()
+        if lab is not None:
+            self.set_lab(True, lab)
+
+    def set_lab(self, on: bool, choice: Choice | None = None) -> None:
+        """Open the lab panel (with `choice`, or the lab's last one) or close it."""
+        if on:
+            if self.lab is None:
+                self.lab = LabControl(self.world, self.clock, choice or Choice(),
+                                      self.recorder)
+            elif choice is not None and choice != self.lab.choice:
+                self.lab.switch(choice)
+            else:
+                self.lab.reopen()
+        elif self.lab is not None:
+            self.lab.close()
+        self.lab_open = on
+        self.set_overlay(self.overlay)  # the detector may be a new one
+        self.needs_draw = True
 
     def set_overlay(self, on: bool) -> None:
         """The overlay watches the detector only while it is shown: off, it costs nothing."""
@@ -114,6 +140,12 @@ class Session:
                 self.loop.resume()
             elif event.key == pygame.K_F3:
                 self.set_overlay(not self.overlay)
+            elif event.key == pygame.K_F4:
+                self._resize_for_panel(not self.lab_open)
+                self.set_lab(not self.lab_open)
+            elif self.lab_open and self.lab is not None and self.lab.key(
+                    event.key, bool(event.mod & pygame.KMOD_SHIFT)):
+                self.set_overlay(self.overlay)
             elif event.key == pygame.K_m and self.sounds is not None:
                 self.sounds.toggle_mute()
             elif event.key == pygame.K_F11:
@@ -121,6 +153,17 @@ class Session:
                     pygame.display.toggle_fullscreen()
                 self._follow_window()
         return True
+
+    def _resize_for_panel(self, opening: bool) -> None:
+        """Widen the window by the panel (or narrow it back), unless it fills the screen."""
+        window = pygame.display.get_surface() if pygame.display.get_init() else None
+        if window is None or window is not self.target or (
+                window.get_flags() & pygame.FULLSCREEN):
+            return
+        w, h = window.get_size()
+        extra = panel_width(h / SCREEN_H)
+        width = w + extra if opening else max(SCREEN_W, w - extra)
+        self.target = pygame.display.set_mode((width, h), pygame.RESIZABLE)
 
     def _follow_window(self) -> None:
         """Draw into the window's surface as it is now (resizing can replace it)."""
@@ -150,6 +193,8 @@ class Session:
                 if bits is None:
                     self.replay_done = True
                     break
+            while self.switches and self.switches[-1][0] == self.world.tick:
+                self._replay_switch(self.switches.pop()[1])
             self.report = self.world.step(bits)
             ran += 1
             if self.sounds is not None:
@@ -167,9 +212,37 @@ class Session:
         if not ran and not self.needs_draw:
             return False
         self.needs_draw = False
-        self.renderer.draw(self.target, self.world, alpha, self.overlay, self.report,
-                           self.watch.pairs, self.paused, self.replay_verdict())
+        self.draw(alpha)
         return True
+
+    def draw(self, alpha: float = 0.0) -> None:
+        """The playfield, and beside it the lab's panel when it is open."""
+        target = self.target
+        if self.lab_open and self.lab is not None:
+            w, h = target.get_size()
+            scale = h / SCREEN_H
+            width = panel_width(scale)
+            play = pygame.Rect(0, 0, max(1, w - width), h)
+            field = target.subsurface(play)
+            self.renderer.draw(field, self.world, alpha, self.overlay, self.report,
+                               self.watch.pairs, self.paused, self.replay_verdict())
+            view = View.of(play.size)
+            draw_marks(field, view.to_window, view.scale, self.lab)
+            self.painter.draw(target, pygame.Rect(play.right, 0, w - play.right, h), self.lab,
+                              scale)
+            return
+        self.renderer.draw(target, self.world, alpha, self.overlay, self.report,
+                           self.watch.pairs, self.paused, self.replay_verdict())
+
+    def _replay_switch(self, data: dict) -> None:
+        """A replay's lab switch: the method it recorded, shown in the open panel."""
+        choice = Choice.from_dict(data)  # checked when the replay was loaded
+        if self.lab is None:
+            self.set_lab(True, choice)
+        else:
+            self.lab.switch(choice)
+            self.lab_open = True
+            self.set_overlay(self.overlay)
 
     def _tick_input(self, held: int) -> int:
         """This tick's input: the held keys, plus key presses latched from the event queue,
@@ -201,7 +274,7 @@ class Session:
 NO_WINDOW_DRIVERS = ("dummy", "offscreen")
 
 
-def open_window(scale: int, title: str = "invaders") -> pygame.Surface:
+def open_window(scale: int, title: str = "invaders", lab: bool = False) -> pygame.Surface:
     """A window, or pygame.error if SDL could only find a driver that shows none (it falls
     back to one silently when there is no display; asking for it by name is allowed)."""
     asked = os.environ.get("SDL_VIDEODRIVER")
@@ -214,9 +287,10 @@ def open_window(scale: int, title: str = "invaders") -> pygame.Surface:
         pygame.display.quit()
         raise pygame.error(f"no display: SDL fell back to its '{driver}' driver, which "
                            "shows no window")
-    window = pygame.display.set_mode((SCREEN_W * scale, SCREEN_H * scale), pygame.RESIZABLE)
+    width = SCREEN_W * scale + (panel_width(scale) if lab else 0)
+    window = pygame.display.set_mode((width, SCREEN_H * scale), pygame.RESIZABLE)
     pygame.display.set_caption(f"{title}  (arrows/A D move, space fires, P pause, "
-                               "F3 overlay)")
+                               "F3 overlay, F4 lab)")
     return window
 
 
@@ -231,10 +305,10 @@ class App:
                  scale: int = 3, replay: Replay | None = None, speed: int = 1,
                  recorder: Recorder | None = None, overlay: bool = False,
                  broadphase: str = "grid", attract_first: bool = True,
-                 sounds: SoundBoard | None = None) -> None:
+                 sounds: SoundBoard | None = None, lab: Choice | None = None) -> None:
         self.window, self.clock, self.scale, self.broadphase = window, clock, scale, broadphase
         self.session = Session(world, window, clock, scale, replay, speed, recorder, overlay,
-                               sounds=sounds)
+                               sounds=sounds, lab=lab)
         self.attract = None if replay is not None else Attract(window, clock, scale, world,
                                                                 self._demo)
         self.mode = "attract" if self.attract is not None and attract_first else "game"
@@ -276,10 +350,12 @@ class App:
         world = self.session.world
         if self.session.start_requested:  # Enter at a replay's end: a game of one's own
             fresh = World(seed=world.seed, broadphase=self.broadphase)
+            lab = self.session.lab.choice if self.session.lab_open and self.session.lab else None
             self.session = Session(fresh, self.session.target, self.clock, self.scale,
-                                   overlay=self.session.overlay, sounds=self.session.sounds)
+                                   overlay=self.session.overlay, sounds=self.session.sounds,
+                                   lab=lab)
             pygame.display.set_caption("invaders  (arrows/A D move, space fires, "
-                                       "P pause, F3 overlay)")
+                                       "P pause, F3 overlay, F4 lab)")
         elif (self.attract is not None and world.tick > before
               and world.phase is Phase.GAME_OVER and world.phase_timer <= 0):
             self.mode = "attract"  # GAME OVER has been shown: the cabinet's cycle again
@@ -290,7 +366,7 @@ class App:
 
 def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool = False,
          record: str | None = None, replay: Replay | None = None, speed: int = 1,
-         mute: bool = False) -> int:
+         mute: bool = False, lab: Choice | None = None) -> int:
     """Open a window: the attract cycle until Enter or 1 starts a game (or a replay to
     watch), until Esc, the window closes or a signal.
 
@@ -305,10 +381,10 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool 
         world = World(seed=seed, broadphase=broadphase)
     recorder = Recorder(world, record, SAVE_EVERY) if record else None
     title = "invaders" if replay is None else f"invaders: replay at {speed}x"
-    window = open_window(scale, title)
+    window = open_window(scale, title, lab is not None)
     app = App(world, window, time.perf_counter, scale, replay, speed, recorder, overlay,
               broadphase, attract_first=recorder is None,  # a recording starts with its game
-              sounds=SoundBoard(muted=mute))
+              sounds=SoundBoard(muted=mute), lab=lab)
     frame_clock = pygame.time.Clock()
     with StopSignals() as signals:
         try:
@@ -335,26 +411,25 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool 
 
 def screenshot(path: str, seed: int = 0, ticks: int = 600, scale: int = 3,
                overlay: bool = False, broadphase: str = "grid",
-               attract: str | None = None) -> int:
+               attract: str | None = None, lab: Choice | None = None) -> int:
     """Play `ticks` ticks headless with the autopilot, then save the window as a PNG (or,
-    with `attract`, that still screen of the attract cycle)."""
+    with `attract`, that still screen of the attract cycle); with `lab`, the lab's panel
+    beside it and the errors of its method marked."""
     from invaders.app.headless import use_dummy_drivers
 
     use_dummy_drivers()
     world = World(seed=seed, broadphase=broadphase)
     pilot = Autopilot(seed)
-    watch = CandidateWatch()
-    if overlay:
-        world.detector.observers.append(watch)
-    report = None
-    for _ in range(ticks):
-        report = world.step(pilot.actions(world))
-    target = pygame.Surface((SCREEN_W * scale, SCREEN_H * scale))
+    width = SCREEN_W * scale + (panel_width(scale) if lab is not None else 0)
+    target = pygame.Surface((width, SCREEN_H * scale))
     if attract is not None:
         texts, pictures = card(attract)
         Renderer(scale).draw_card(target, World(seed=seed), texts, pictures)
     else:
-        Renderer(scale).draw(target, world, 0.0, overlay, report, watch.pairs)
+        session = Session(world, target, time.perf_counter, scale, overlay=overlay, lab=lab)
+        for _ in range(ticks):
+            session.report = world.step(pilot.actions(world))
+        session.draw()
     png = io.BytesIO()
     pygame.image.save(target, png, "screenshot.png")
     with writing(path, "screenshot"), atomic_writer(path, "wb") as handle:

@@ -1,0 +1,177 @@
+"""The lab in the window: switch the collision method while playing, and see what it misses.
+
+`LabControl` owns the lab's side of a game: the choice, putting it into the world (from the
+next tick), telling a recording, and the keys. `draw_panel` paints the panel beside the
+playfield at the window's resolution; `draw_marks` rings each error the oracle found where
+it should have happened: missed in red, late in orange, false in yellow, fading over a
+second. Detection is timed with the clock the window runs on (never the simulation's).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import pygame
+
+from invaders.app.recording import Recorder
+from invaders.game.config import GameConfig
+from invaders.game.world import World
+from invaders.lab.live import DEFAULT_CHOICE, MARK_TICKS, Choice, LabDetector, install
+
+# key -> (choice, step): the panel lists them, so any key here is shown to the player
+KEYS: dict[int, tuple[str, int]] = {
+    pygame.K_b: ("broad", 1),
+    pygame.K_LEFTBRACKET: ("cell", -1),
+    pygame.K_RIGHTBRACKET: ("cell", 1),
+    pygame.K_q: ("quick", 1),
+    pygame.K_t: ("thorough", 1),
+    pygame.K_o: ("motion", 1),
+    pygame.K_k: ("sampling", 1),
+    pygame.K_MINUS: ("speed", -1),
+    pygame.K_EQUALS: ("speed", 1),
+}
+MARK_COLOURS = {"missed": (255, 40, 40), "late": (255, 150, 0), "false": (255, 240, 0)}
+PANEL_BACKGROUND = (16, 16, 24)
+TEXT = (230, 230, 230)
+DIM = (140, 140, 150)
+PANEL_PX_PER_SCALE = 112  # the panel is half a playfield wide,
+PANEL_MIN_PX = 260  # and never too narrow for its lines at the smallest text
+PANEL_TEXT_PX = 14  # never smaller, whatever the scale
+
+
+class LabControl:
+    """The lab of one game: its choice, its detector in the world, its keys."""
+
+    def __init__(self, world: World, clock: Callable[[], float], choice: Choice = DEFAULT_CHOICE,
+                 recorder: Recorder | None = None, base: GameConfig | None = None) -> None:
+        self.world = world
+        self.clock = clock
+        self.recorder = recorder
+        self.base = base or world.config  # the game's speeds; a lab multiplies them
+        self.choice = choice
+        self.since = world.tick
+        self.detector: LabDetector = self._install(choice)
+        if recorder is not None and choice != DEFAULT_CHOICE:
+            recorder.switch(choice.to_dict())  # the game starts with another method
+
+    def _install(self, choice: Choice) -> LabDetector:
+        detector = install(self.world, choice, self.base, shadow=True, clock=self.clock)
+        assert isinstance(detector, LabDetector)  # watched: always the lab's detector
+        return detector
+
+    def switch(self, choice: Choice, record: bool = True) -> None:
+        """Use `choice` from the next tick (a recording notes it); the count starts over."""
+        if choice == self.choice:
+            return
+        self.choice = choice
+        self.since = self.world.tick
+        self.detector = self._install(choice)
+        if record and self.recorder is not None:
+            self.recorder.switch(choice.to_dict())
+
+    def key(self, key: int, shift: bool = False) -> bool:
+        """A lab key (Shift steps back): whether it was one."""
+        entry = KEYS.get(key)
+        if entry is None:
+            return False
+        name, step = entry
+        self.switch(self.choice.cycled(name, -step if shift else step))
+        return True
+
+    def reopen(self) -> None:
+        """Watched and timed again, the count started over."""
+        self.since = self.world.tick
+        self.detector = self._install(self.choice)
+
+    def close(self) -> None:
+        """Back to the game's own detector if the method is the game's own; another method
+        stays in force, unwatched and untimed (the lab off costs nothing)."""
+        install(self.world, self.choice, self.base, shadow=False)
+
+
+def panel_width(scale: float) -> int:
+    return max(PANEL_MIN_PX, round(PANEL_PX_PER_SCALE * scale))
+
+
+def panel_lines(control: LabControl) -> list[tuple[str, tuple[int, int, int]]]:
+    """The panel's text, top to bottom, each line with its colour."""
+    c = control.choice
+    d = control.detector
+    lines = [("LAB   F4 closes", TEXT), ("", TEXT)]
+    rows = [("B", "broad phase", c.broad),
+            ("[ ]", "grid cell", f"{c.cell} px" if c.broad == "grid" else "-"),
+            ("Q", "quick test", c.quick),
+            ("T", "thorough", c.thorough),
+            ("O", "motion", "as proven" if c.motion == "auto" else f"all {c.motion}"),
+            ("K", "sampling", f"every {c.sampling} tick" + ("s" if c.sampling > 1 else "")),
+            ("- =", "speed", f"x{c.speed}")]
+    lines += [(f"{key:<4}{name:<12}{value}", TEXT) for key, name, value in rows]
+    lines.append(("Shift steps back", DIM))
+    lines.append(("", TEXT))
+    lines.append((f"since tick {control.since}"
+                  + ("  (default)" if c.is_default else ""), DIM))
+    score = d.shadow.score if d.shadow is not None else None
+    if score is not None:
+        rate = f"{score.errors / score.true:.3f}" if score.true else "-"
+        lines += [(f"true contacts {score.true:>6}", TEXT),
+                  (f"on time       {score.on_time:>6}", TEXT),
+                  (f"late          {score.late:>6}", MARK_COLOURS["late"]),
+                  (f"missed        {score.missed:>6}", MARK_COLOURS["missed"]),
+                  (f"false         {score.false:>6}", MARK_COLOURS["false"]),
+                  (f"errors/true   {rate:>6}", TEXT)]
+    last, mid, ratio = d.timings()
+    lines += [("", TEXT), ("detection", DIM),
+              (f"this tick   {last * 1e6:8.1f} us", TEXT),
+              (f"median 1 s  {mid * 1e6:8.1f} us", TEXT),
+              (f"vs default  {'1.00x' if ratio is None else f'{ratio:.2f}x':>8}", TEXT)]
+    s = d.stats
+    lines += [("", TEXT), ("counters, last look", DIM),
+              (f"objects {s.objects}  rules {s.allowed_pairs}", TEXT),
+              (f"broad {s.candidates}  rect {s.rect_hits}/{s.rect_tests}", TEXT),
+              (f"mask {s.mask_hits}/{s.mask_tests}  swept {s.swept_tests}", TEXT),
+              (f"contacts {s.contacts}", TEXT)]
+    return lines
+
+
+class PanelPainter:
+    """Keeps the panel's font for the size it was last drawn at."""
+
+    def __init__(self) -> None:
+        self._font: pygame.font.Font | None = None
+        self._size = 0
+
+    def font(self, size: int) -> pygame.font.Font:
+        if self._font is None or self._size != size:
+            pygame.font.init()
+            self._font = pygame.font.SysFont("monospace", size) or pygame.font.Font(None, size)
+            self._size = size
+        return self._font
+
+    def draw(self, target: pygame.Surface, area: pygame.Rect, control: LabControl,
+             scale: float) -> None:
+        target.fill(PANEL_BACKGROUND, area)
+        size = max(PANEL_TEXT_PX, round(4.2 * scale))
+        font = self.font(size)
+        pad = max(4, size // 2)
+        y = area.y + pad
+        for text, colour in panel_lines(control):
+            if text:
+                target.blit(font.render(text, True, colour), (area.x + pad, y))
+            y += font.get_linesize()
+
+
+def draw_marks(target: pygame.Surface, to_window: Callable[[float, float], tuple[int, int]],
+               scale: float, control: LabControl) -> None:
+    """A ring where each error the shadow found should have happened, fading as it ages."""
+    shadow = control.detector.shadow
+    if shadow is None:
+        return
+    now = control.world.tick
+    radius = max(4, round(5 * scale))
+    width = max(2, round(scale))
+    for mark in shadow.marks:
+        left = 1 - (now - mark.tick) / MARK_TICKS
+        if left <= 0:
+            continue
+        colour = tuple(round(c * left) for c in MARK_COLOURS[mark.outcome])
+        pygame.draw.circle(target, colour, to_window(mark.x + 0.5, mark.y + 0.5), radius, width)

@@ -1,0 +1,212 @@
+"""The lab, live: switching methods while a game runs, watching each fail against the oracle
+in shadow, and reproducing a lab session from its recording. Windows on SDL's dummy driver."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import pygame
+import pytest
+
+from invaders.app.cli import main
+from invaders.app.recording import Recorder, save_replay
+from invaders.engine.detector import Detector
+from invaders.game.actions import Action
+from invaders.game.replay import load, run
+from invaders.game.world import World
+from invaders.lab.autopilot import Autopilot
+from invaders.lab.frames import FrameScene, sampled
+from invaders.lab.live import Choice, LabDetector, Sampler, install, replay_switch
+from invaders.lab.runner import FrameRecorder, SceneSpec, run_cell, truth
+from tests.helpers import active_world, windowed
+
+REPLAYS = Path(__file__).resolve().parents[1] / "replays"
+RIGHT, FIRE = int(Action.RIGHT), int(Action.FIRE)
+
+
+def _key(key: int, shift: bool = False) -> pygame.event.Event:
+    return pygame.event.Event(pygame.KEYDOWN, key=key, mod=pygame.KMOD_SHIFT if shift else 0,
+                              unicode="", scancode=0)
+
+
+def _frames(session, clock, n: int) -> None:
+    for _ in range(n):
+        clock.now += 1 / 60
+        session.frame(0)
+
+
+@pytest.mark.parametrize("key, name", [
+    (pygame.K_b, "broad"), (pygame.K_RIGHTBRACKET, "cell"), (pygame.K_LEFTBRACKET, "cell"),
+    (pygame.K_q, "quick"), (pygame.K_t, "thorough"), (pygame.K_o, "motion"),
+    (pygame.K_k, "sampling"), (pygame.K_EQUALS, "speed")])
+def test_each_lab_key_changes_one_choice_and_the_detector_from_the_next_tick(key, name):
+    world = World(seed=1)
+    session, clock = windowed(world)
+    session.handle(_key(pygame.K_F4))
+    _frames(session, clock, 30)
+    before, detector, state = session.lab.choice, world.detector, world.state_hash()
+    session.handle(_key(key))
+    after = session.lab.choice
+    changed = {f.name for f in dataclasses.fields(Choice)
+               if getattr(before, f.name) != getattr(after, f.name)}
+    assert changed == {name}
+    assert world.state_hash() == state  # nothing else changed: no tick ran
+    assert world.detector is not detector and world.detector.choice == after
+    _frames(session, clock, 1)
+    assert session.report.tick == 30  # the next tick ran with it
+    assert session.report.broadphase == after.broad
+    assert world.config.speeds.shot == 4 * after.speed
+
+
+def test_shift_steps_a_choice_back_and_sizes_stop_at_their_ends():
+    world = World(seed=1)
+    session, _ = windowed(world, lab=Choice(speed=16))
+    session.handle(_key(pygame.K_EQUALS))
+    assert session.lab.choice.speed == 16
+    session.handle(_key(pygame.K_o, shift=True))
+    assert session.lab.choice.motion == "swept"  # auto, back round to the last
+
+
+def test_closing_the_lab_on_the_default_method_gives_the_game_its_own_detector_back():
+    world = World(seed=1)
+    session, _ = windowed(world)
+    session.handle(_key(pygame.K_F4))
+    assert isinstance(world.detector, LabDetector)
+    session.handle(_key(pygame.K_F4))
+    assert type(world.detector) is Detector and world.detector.observers == []
+
+
+def _shot_through_the_first_shield(choice: Choice):
+    """Under the first shield's fifth column, fire once at the choice's speeds."""
+    world = active_world()
+    detector = install(world, choice, world.config)
+    shield = world.bunkers[0]
+    column = shield.x + 4
+    while world.cannon.x + 8 < column:  # the shot leaves the cannon 8 px from its left
+        world.step(RIGHT)
+    world.step(FIRE)
+    assert world.shot is not None and world.shot.x == column
+    pixels = shield.mask.count()
+    for _ in range(3):
+        world.step(0)
+    return world, detector, shield, pixels
+
+
+def test_at_8x_all_discrete_a_shot_passes_through_a_shield_and_the_miss_is_marked():
+    world, detector, shield, pixels = _shot_through_the_first_shield(
+        Choice(motion="discrete", speed=8))
+    assert shield.mask.count() == pixels  # not a pixel eroded: it went through
+    x = world.bunkers[0].x + 4
+    # The shot (one pixel wide) going up first touches the column's lowest solid pixel.
+    lowest = max(y for y in range(shield.h) if shield.mask.get_at((x - shield.x, y)))
+    missed = [m for m in detector.shadow.marks if m.outcome == "missed"]
+    assert (missed[0].x, missed[0].y) == (x, shield.y + lowest)
+    assert detector.shadow.score.missed >= 1
+
+
+def test_the_default_method_stops_the_same_shot_at_the_shield_with_no_error():
+    _, detector, shield, pixels = _shot_through_the_first_shield(Choice(speed=8))
+    score = detector.shadow.score
+    assert shield.mask.count() < pixels
+    assert (score.true, score.on_time, score.errors) == (1, 1, 0)
+    assert list(detector.shadow.marks) == []
+
+
+def test_the_live_shadow_scores_as_the_study_does_on_the_same_frames():
+    """A method that errs at the game's speed, on a recorded game: the lab's live figures
+    are the study's for the frames the game showed it."""
+    replay = load(REPLAYS / "wave-cleared.json")
+    choice = Choice(quick="circle", thorough="none", motion="discrete")
+    world = World(replay.seed, replay.config)
+    detector = install(world, choice, world.config)
+    recorder = FrameRecorder()
+    detector.observers.append(recorder)
+    for bits, _ in zip(replay.actions(), range(1500), strict=False):
+        world.step(bits)
+    live = detector.shadow.finish()
+    spec = SceneSpec("live", 1500)
+    row = run_cell(spec, choice.method, recorder.frames,
+                   truth(recorder.frames, world.rules), rules=world.rules)
+    assert live.errors > 0
+    assert (row["true"], row["on_time"], row["late"], row["missed"], row["false"]) == (
+        live.true, live.on_time, live.late, live.missed, live.false)
+
+
+def test_a_detector_that_looks_every_kth_tick_sees_what_the_study_samples():
+    world = World(seed=3)
+    recorder = FrameRecorder()
+    world.detector.observers.append(recorder)
+    pilot = Autopilot(3)
+    for _ in range(400):
+        world.step(pilot.actions(world))
+    frames = recorder.frames
+    for k in (2, 4, 8):
+        sampler, scene = Sampler(k), FrameScene()
+        views = []
+        for frame in frames:
+            scene.load(frame)
+            if sampler.due(frame.tick):
+                view = sampler.view(scene.store)
+                views.append(sorted((b.id, b.x, b.y, *b.start_of_tick(view.tick))
+                                    for b in view.by_id.values()))
+        expected = [sorted((row[0], row[1], row[2], *((row[3], row[4]) if row[5] == n
+                                                     else (row[1], row[2])))
+                           for rows in f.bodies.values() for row in rows)
+                    for n, f in enumerate(sampled(frames, k))]
+        assert views == expected
+
+
+def test_a_lab_session_plays_back_from_its_recording(tmp_path):
+    world = World(seed=3)
+    recorder = Recorder(world)
+    session, clock = windowed(world, recorder=recorder, pilot=Autopilot(3))
+    session.handle(_key(pygame.K_F4))
+    _frames(session, clock, 200)
+    switched = [world.tick] * 4
+    for key in (pygame.K_o, pygame.K_EQUALS, pygame.K_EQUALS, pygame.K_EQUALS):
+        session.handle(_key(key))  # all discrete, then 8x
+    _frames(session, clock, 800)
+    switched.append(world.tick)
+    session.handle(_key(pygame.K_k))
+    _frames(session, clock, 400)
+    assert session.lab.detector.shadow.score.missed > 0  # it did fail, and the game went on
+    path = tmp_path / "lab.json"
+    save_replay(path, recorder.finished())
+    replay = load(path)
+    assert [t for t, _ in replay.switches] == switched
+    result, _ = run(replay, switch=replay_switch(replay.config))
+    assert result.mismatch is None and result.final.hash == world.state_hash()
+    assert main(["replay", str(path)]) == 0
+    watched = World(replay.seed, replay.config)
+    viewer, clock = windowed(watched, replay=replay)
+    _frames(viewer, clock, replay.ticks + 5)
+    assert viewer.replay_verdict() == "CHECKPOINTS MATCHED"
+    assert viewer.lab_open and viewer.lab.choice == session.lab.choice
+
+
+def test_a_replay_with_a_switch_the_lab_cannot_make_is_refused_in_one_line(tmp_path, capsys):
+    world = World(seed=3)
+    recorder = Recorder(world)
+    recorder.switch({"motion": "teleport"})
+    for _ in range(120):
+        world.step(0)
+        recorder.tick(0)
+    path = tmp_path / "bad.json"
+    save_replay(path, recorder.finished())
+    assert main(["replay", str(path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "lab switch at tick 0: lab choice motion must be one of" in err[0]
+
+
+def test_run_reports_the_shadows_running_score_in_its_columns(tmp_path, capsys):
+    report = tmp_path / "r.csv"
+    assert main(["run", "--autopilot", "--ticks", "1500", "--seed", "3", "--motion",
+                 "discrete", "--speed-mult", "8", "--shadow", "--report", str(report)]) == 0
+    printed = next(line for line in capsys.readouterr().out.splitlines()
+                   if line.startswith("shadow ("))
+    header, *rows = report.read_text().splitlines()
+    names = header.split(",")
+    last = dict(zip(names, rows[-1].split(","), strict=True))
+    true, on_time, missed = (int(last[f"shadow_{n}"]) for n in ("true", "on_time", "missed"))
+    assert missed > 0 and f"{true} true contacts; on time {on_time}" in printed
