@@ -131,3 +131,22 @@ def test_discrete_tests_at_eight_times_the_speed_miss_what_the_oracle_sees(capsy
                 if x.startswith("shadow (rect/mask/discrete at 8x)"))
     missed = int(line.split("missed ")[1].split(",")[0])
     assert missed > 0
+
+
+def test_bench_against_ale_without_the_compare_extra_says_how_to_get_it(monkeypatch, capsys):
+    import invaders.lab.ale
+
+    monkeypatch.setattr(invaders.lab.ale, "available", lambda: False)
+    assert main(["bench", "--ale"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["invaders: error: --ale needs ale-py: pip install -e '.[compare]'"]
+
+
+def test_the_bare_step_loop_and_ale_share_one_input_cycle_that_plays_the_game():
+    from invaders.game.world import World
+    from invaders.lab.ale import CYCLE
+
+    world = World(seed=7)
+    for i in range(1800):
+        world.step(CYCLE[i % len(CYCLE)])
+    assert world.aliens_killed > 0  # the cycle fires and moves: it plays, not idles

@@ -128,6 +128,9 @@ def build_parser() -> Parser:
     bench = sub.add_parser("bench", help="time the pipeline against references, as ratios")
     bench.add_argument("--ticks", type=_int_in("--ticks", 60, MAX_TICKS), default=3600)
     bench.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=7)
+    bench.add_argument("--ale", action="store_true",
+                       help="also time the Arcade Learning Environment's emulated Space "
+                            "Invaders (needs the compare extra: ale-py)")
     bench.add_argument("--rounds", type=_int_in("--rounds", 3, 100), default=10,
                        help="interleaved rounds; figures are medians over them")
     return parser
@@ -257,8 +260,13 @@ def cmd_bench(args: argparse.Namespace) -> int:
     use_dummy_drivers()
     from invaders.lab.bench import BenchFailure, bench
 
+    if args.ale:
+        from invaders.lab.ale import available
+
+        if not available():
+            raise UsageError("--ale needs ale-py: pip install -e '.[compare]'")
     try:
-        return bench(ticks=args.ticks, seed=args.seed, rounds=args.rounds)
+        return bench(ticks=args.ticks, seed=args.seed, rounds=args.rounds, ale=args.ale)
     except BenchFailure as err:
         print(f"invaders: bench: {err}", file=sys.stderr)
         return 1
