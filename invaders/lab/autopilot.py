@@ -18,6 +18,11 @@ DODGE_LOOKAHEAD_TICKS = 45  # bombs further than this from the cannon's rows are
 CANNON_LIT = (2, 14)  # first and last lit column of the cannon's 16-px box
 DODGE_MARGIN = 2  # columns of room kept between a bomb and the cannon
 SHOT_TICKS_TO_LANE = 42  # ticks the shot needs from the barrel to the saucer lane
+INF = float("inf")
+MOVES_IN_ORDER = {-1: (-1, 0, 1), 0: (0, -1, 1), 1: (1, 0, -1)}  # the wish, stay, the rest
+# Plain ints: flag arithmetic on the enum costs more than the rest of a quiet tick.
+LEFT, RIGHT, FIRE, START = (int(Action.LEFT), int(Action.RIGHT), int(Action.FIRE),
+                            int(Action.START))
 
 
 STYLES = {
@@ -66,10 +71,11 @@ class Autopilot:
         self._target_tick = -1
         self._target: int | None = None
         self._has_targets = False
+        self._columns = ShooterColumns()
 
     def actions(self, world: World) -> int:
         if world.phase is Phase.GAME_OVER:
-            return int(Action.START) if world.tick % 30 == 0 else 0
+            return START if world.tick % 30 == 0 else 0
         cannon = world.cannon
         if cannon.state is not CannonState.ACTIVE:
             return 0
@@ -78,15 +84,10 @@ class Autopilot:
         if wish is None:
             wish = self._approach(world, centre)
         move = self._choose(world, self._threats(world), wish)
-        bits = 0
-        if move < 0:
-            bits |= Action.LEFT
-        elif move > 0:
-            bits |= Action.RIGHT
-        if self._want_fire(world, centre):
-            bits |= Action.FIRE
-        self._fire_held = bool(bits & Action.FIRE)
-        return int(bits)
+        bits = LEFT if move < 0 else RIGHT if move > 0 else 0
+        fire = self._want_fire(world, centre)
+        self._fire_held = fire
+        return bits | FIRE if fire else bits
 
     def _threats(self, world: World) -> list[tuple[int, int, float, float]]:
         """Noticed bombs as (first lit column, last, ticks until they reach the cannon's
@@ -120,26 +121,32 @@ class Autopilot:
     def _first_hit(self, world: World, threats, direction: int) -> float:
         """Ticks until a threat would hit the cannon if it held `direction`; inf if never."""
         g = world.config.geometry
+        low, high = g.cannon_min_x, g.cannon_max_x
         x0 = world.cannon.x
-        first = float("inf")
+        first = INF
         for left, right, arrive, leave in threats:
-            xa = min(max(x0 + direction * int(arrive), g.cannon_min_x), g.cannon_max_x)
-            xb = min(max(x0 + direction * int(leave + 1), g.cannon_min_x), g.cannon_max_x)
-            lo, hi = min(xa, xb) + CANNON_LIT[0], max(xa, xb) + CANNON_LIT[1]
-            if left <= hi and lo <= right:
-                first = min(first, arrive)
+            xa = x0 + direction * int(arrive)
+            xa = low if xa < low else high if xa > high else xa
+            xb = x0 + direction * int(leave + 1)
+            xb = low if xb < low else high if xb > high else xb
+            if xa > xb:
+                xa, xb = xb, xa
+            if left <= xb + CANNON_LIT[1] and xa + CANNON_LIT[0] <= right and arrive < first:
+                first = arrive
         return first
 
     def _choose(self, world: World, threats, wish: int) -> int:
         """The wished move if it stays clear of every noticed bomb; else the safest move."""
         if not threats:
             return wish
-        options = list(dict.fromkeys((wish, 0, -1, 1)))
-        times = {d: self._first_hit(world, threats, d) for d in options}
-        for d in options:
-            if times[d] == float("inf"):
+        best, latest = wish, -1.0
+        for d in MOVES_IN_ORDER[wish]:
+            time = self._first_hit(world, threats, d)
+            if time == INF:
                 return d
-        return max(options, key=lambda d: times[d])
+            if time > latest:  # ties: the earlier option, as the order says
+                best, latest = d, time
+        return best
 
     def _wandering(self) -> int | None:
         """Now and then drift for a while, so games differ by seed."""
@@ -160,9 +167,7 @@ class Autopilot:
 
     def _shootable(self, world: World) -> list:
         """The lowest live alien of each column this style shoots at."""
-        rack = world.rack
-        found = (rack.lowest_in_column(col) for col in target_columns(world, self.columns))
-        return [alien for alien in found if alien is not None]
+        return self._columns.shooters(world, self.columns)
 
     def _find_target(self, world: World) -> int | None:
         targets = self._shootable(world)
@@ -174,11 +179,11 @@ class Autopilot:
             lead = ship.dx * SHOT_TICKS_TO_LANE // 3
             return ship.x + 12 + lead
         best = None
-        shields = self._shields
+        lit = frozenset() if self._through_shields else self._shields.lit(world)
+        centre = world.cannon.x + 8
         for alien in targets:
             x = alien.x + 8
-            blocked = shields.covers(world, x) and not self._through_shields
-            key = (blocked, -alien.top, abs(x - world.cannon.x - 8))
+            key = (x in lit, -alien.top, abs(x - centre))
             if best is None or key < best[0]:
                 best = (key, x)
         return None if best is None else best[1]
@@ -214,17 +219,62 @@ class Autopilot:
         return all(not alien.x <= x < alien.x + alien.w for alien in world.rack.live_aliens())
 
 
+class ShooterColumns:
+    """The lowest alien of each column, worked out again only when the rack loses one (a
+    column's lowest changes only then) or a new rack comes."""
+
+    def __init__(self) -> None:
+        self._rack = None
+        self._live = -1
+        self._which = ""
+        self._found: list = []
+
+    def shooters(self, world: World, which: str) -> list:
+        rack = world.rack
+        if rack is not self._rack or rack.live != self._live or which != self._which:
+            self._rack, self._live, self._which = rack, rack.live, which
+            found = (rack.lowest_in_column(col) for col in target_columns(world, which))
+            self._found = [alien for alien in found if alien is not None]
+        return self._found
+
+
 class ShieldColumns:
-    """Which screen columns still have shield pixels, recomputed only when a shield changes."""
+    """Which screen columns still have shield pixels, recomputed only when a shield changes
+    (looked at once a tick: the autopilot reads the world between ticks)."""
 
     def __init__(self) -> None:
         self._seen: dict[int, tuple[int, frozenset[int]]] = {}
+        self._tick = -1
+        self._world: World | None = None
+        self._key: tuple = ()
+        self._lit: frozenset[int] = frozenset()
 
     def covers(self, world: World, x: int) -> bool:
+        return x in self.lit(world)
+
+    def lit(self, world: World) -> frozenset[int]:
+        """Every screen column a shield still covers."""
+        tick = world.store.tick
+        if tick != self._tick or world is not self._world:
+            self._tick, self._world = tick, world
+            key = tuple((b.id, b.x, b.mask.count()) for b in world.bunkers)
+            if key != self._key:
+                self._key = key
+                self._lit = self._all_columns(world)
+        return self._lit
+
+    def _all_columns(self, world: World) -> frozenset[int]:
+        """Lit columns, each judged by the first shield whose box spans it."""
+        spanned: set[int] = set()
+        lit: set[int] = set()
         for bunker in world.bunkers:
-            if bunker.x <= x < bunker.x + bunker.w:
-                return x in self._columns(bunker)
-        return False
+            columns = self._columns(bunker)
+            for x in range(bunker.x, bunker.x + bunker.w):
+                if x not in spanned:
+                    spanned.add(x)
+                    if x in columns:
+                        lit.add(x)
+        return frozenset(lit)
 
     def _columns(self, bunker) -> frozenset[int]:
         count = bunker.mask.count()
