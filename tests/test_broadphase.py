@@ -1,4 +1,5 @@
-"""Grid and brute force agree on random scenes and in real games; the grid re-bins lazily."""
+"""Every broad phase agrees with brute force on random scenes, in real games and in big
+storms; the grid re-bins lazily; the automatic choice moves to numpy and back."""
 
 from __future__ import annotations
 
@@ -9,8 +10,9 @@ from hypothesis import strategies as st
 
 from invaders.engine.body import Body
 from invaders.engine.broadphase import Brute, SortAndSweep
-from invaders.engine.detector import Detector
+from invaders.engine.detector import NUMPY_FROM, NUMPY_UNTIL, Adaptive, Detector
 from invaders.engine.grid import Grid
+from invaders.engine.numpy_grid import NumpyGrid
 from invaders.game import art
 from invaders.game.kinds import Kind
 from invaders.game.world import World
@@ -56,6 +58,10 @@ def test_grid_and_brute_give_identical_contacts_in_identical_order(bodies, cell)
     assert grid_contacts == brute_contacts
     sweep_contacts, sweep_stats = Detector(SortAndSweep(), GAME_RULES).detect(scene)
     assert sweep_contacts == brute_contacts
+    numpy_contacts, numpy_stats = Detector(NumpyGrid(cell), GAME_RULES).detect(scene)
+    assert numpy_contacts == brute_contacts
+    assert numpy_stats.allowed_pairs == brute_stats.allowed_pairs
+    assert numpy_stats.candidates <= sweep_stats.candidates  # only boxes that overlap
     assert sweep_stats.candidates <= brute_stats.candidates
     assert [(c.time, c.a_id, c.b_id) for c in grid_contacts] == sorted(
         (c.time, c.a_id, c.b_id) for c in grid_contacts)
@@ -65,15 +71,54 @@ def test_grid_and_brute_give_identical_contacts_in_identical_order(bodies, cell)
 
 def test_every_broad_phase_agrees_tick_by_tick_in_a_game():
     worlds = [World(seed=11, detector=Detector(b, GAME_RULES))
-              for b in (Grid(), Brute(), SortAndSweep())]
+              for b in (Grid(), Brute(), SortAndSweep(), NumpyGrid())]
     pilots = [Autopilot(11) for _ in worlds]
     contacts = 0
     for _ in range(4000):
         reports = [w.step(p.actions(w)) for w, p in zip(worlds, pilots, strict=True)]
-        assert reports[0].contacts == reports[1].contacts == reports[2].contacts
+        assert all(r.contacts == reports[0].contacts for r in reports)
         contacts += len(reports[0].contacts)
     assert contacts > 50
-    assert worlds[0].state_hash() == worlds[1].state_hash() == worlds[2].state_hash()
+    assert len({w.state_hash() for w in worlds}) == 1
+
+
+def _storm_contacts(broadphase, bodies: int, ticks: int, shrink_to: int | None = None):
+    """Contacts of every tick of a storm (its own rules, zones in every tile); with
+    `shrink_to`, projectiles are taken out half-way until that many bodies are left."""
+    from invaders.game.config import DEFAULT_CONFIG
+    from invaders.game.rules import make_rules
+    from invaders.lab.storm import Storm, storm_rules
+
+    storm = Storm(bodies, seed=2, speed=4)
+    detector = Detector(broadphase, storm_rules(make_rules(DEFAULT_CONFIG), bodies))
+    seen = []
+    for tick in range(ticks):
+        if shrink_to is not None and tick == ticks // 2:
+            movers = [b for kind in (Kind.SHOT, Kind.BOMB) for b in storm.store.by_kind[kind]]
+            for body in movers[: storm.count - shrink_to]:
+                storm.store.remove(body)
+        contacts, _ = detector.detect(storm.store)
+        seen.append(contacts)
+        storm.advance()
+    return seen, detector
+
+
+def test_in_big_storms_numpy_finds_what_the_grid_finds_tick_by_tick():
+    grid, _ = _storm_contacts(Grid(), 2500, 12)
+    numpy, _ = _storm_contacts(NumpyGrid(), 2500, 12)
+    assert sum(len(c) for c in grid) > 1000
+    assert numpy == grid
+
+
+def test_the_automatic_choice_takes_numpy_for_big_scenes_and_the_grid_again_when_small():
+    grid, _ = _storm_contacts(Grid(), NUMPY_FROM + 100, 10, shrink_to=NUMPY_UNTIL - 100)
+    auto = Adaptive()
+    seen, _ = _storm_contacts(auto, NUMPY_FROM + 100, 10, shrink_to=NUMPY_UNTIL - 100)
+    assert seen == grid
+    assert auto.active.name == "grid"  # it went back when the scene shrank
+    big = Adaptive()
+    _storm_contacts(big, NUMPY_FROM + 100, 3)
+    assert big.active.name == "numpy"
 
 
 def test_static_bodies_stay_binned_and_movers_rebin_only_when_cells_change():

@@ -14,6 +14,7 @@ from invaders.engine.body import Body
 from invaders.engine.broadphase import Brute
 from invaders.engine.detector import Detector
 from invaders.engine.grid import Grid
+from invaders.engine.numpy_grid import NumpyGrid
 from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
 from invaders.engine.store import BodyStore, gains_pixels
 from invaders.game import art
@@ -154,3 +155,27 @@ class GridAgainstBrute(RuleBasedStateMachine):
 GridAgainstBrute.TestCase.settings = settings(max_examples=60, stateful_step_count=40,
                                               deadline=None)
 test_a_grid_fed_by_the_move_buffer_agrees_with_brute_force = GridAgainstBrute.TestCase
+
+
+class NumpyAgainstBrute(GridAgainstBrute):
+    """The same random adds, moves, reshapes and removes, fed to the numpy broad phase."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.grid = Detector(NumpyGrid(random.Random(0).choice((4, 16, 32))), SWEPT_RULES)
+
+    @invariant()
+    def the_grid_bins_exactly_the_live_probed_bodies(self):
+        """Its arrays hold exactly the live bodies, each row with its own id."""
+        if self.store.listener is not self.grid.broadphase:
+            return
+        numpy_grid = self.grid.broadphase
+        numpy_grid._drain(self.store.tick, self.grid.kinds)
+        for kind, table in numpy_grid.boxes.items():
+            assert sorted(b.id for b in table.bodies) == [b.id for b in self.store.by_kind[kind]]
+            assert list(table.ids[:table.n]) == [b.id for b in table.bodies]
+
+
+NumpyAgainstBrute.TestCase.settings = settings(max_examples=60, stateful_step_count=40,
+                                               deadline=None)
+test_numpy_fed_by_the_move_buffer_agrees_with_brute_force = NumpyAgainstBrute.TestCase

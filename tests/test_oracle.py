@@ -109,3 +109,12 @@ def test_the_default_is_exact_on_storms_with_saucers_in_their_lanes(multiplier):
         assert jumped == 0
     if multiplier == 16:
         assert jumped > 0
+
+
+def test_the_numpy_broad_phase_is_exact_on_storms_too():
+    spec = SceneSpec.storm(300, 30, 4)
+    frames = record(spec)
+    rules = scene_rules(spec)
+    row = run_cell(spec, Method(broad="numpy"), frames, truth(frames, rules), rules=rules)
+    assert row["true"] > 100 and row["broad"] == "numpy"
+    assert (row["missed"], row["false"], row["late"]) == (0, 0, 0)

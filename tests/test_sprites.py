@@ -46,7 +46,7 @@ def _groups(seed: int, count: int) -> tuple[pygame.sprite.Group, pygame.sprite.G
 
 @settings(max_examples=60, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1), count=st.integers(0, 80),
-       broadphase=st.sampled_from(["grid", "brute", "sweep"]))
+       broadphase=st.sampled_from(["grid", "brute", "sweep", "numpy", "auto"]))
 def test_still_sprites_give_exactly_what_groupcollide_with_collide_mask_gives(
         seed, count, broadphase):
     shots, aliens = _groups(seed, count)

@@ -143,7 +143,6 @@ def cmd_run(args: argparse.Namespace) -> int:
     from invaders.app.outputs import REPLAY_SUFFIXES, REPORT_SUFFIXES, check_output, writing
     from invaders.app.signals import StopSignals
     from invaders.app.summary import summary_lines
-    from invaders.lab.autopilot import Autopilot
 
     if args.report is not None:
         check_output(args.report, "report", REPORT_SUFFIXES)
@@ -153,22 +152,26 @@ def cmd_run(args: argparse.Namespace) -> int:
 
     world = World(seed=args.seed, broadphase=args.broadphase, cell=args.cell)
     base = world.config
-    choice = _lab_choice(args)
-    lab = choice.speed > 1 or not choice.is_default
+    lab = _lab_asked(args)
     shadow = None
     if lab or args.shadow:
         from invaders.lab.live import install
 
+        choice = _lab_choice(args)
         detector = install(world, choice, base, shadow=args.shadow)
         shadow = getattr(detector, "shadow", None)
-    source = Autopilot(args.seed, args.autopilot) if args.autopilot else Idle()
+    source = Idle()
+    if args.autopilot:
+        from invaders.lab.autopilot import Autopilot
+
+        source = Autopilot(args.seed, args.autopilot)
     recorder = None
     if args.record is not None:
         from invaders.app.recording import Recorder
 
         recorder = Recorder(world, args.record, save_every=3600, config=base)
         if lab:  # the replay keeps the method, so it plays back as this run went
-            recorder.switch(choice.to_dict())
+            recorder.switch(_lab_choice(args).to_dict())
     with StopSignals() as signals:
         try:
             with writing(args.report or args.record or "", "report or replay"):
@@ -196,6 +199,13 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _lab_asked(args: argparse.Namespace) -> bool:
+    """Whether the lab options ask for another method or speed than the game's own (told
+    without importing the lab, which a plain run does not need)."""
+    return (args.quick, args.thorough, args.motion, args.sample, args.speed_mult) != (
+        "rect", "mask", "auto", 1, 1)
+
+
 def _lab_choice(args: argparse.Namespace):
     """The run's collision method and projectile speed, as the lab names them."""
     from invaders.engine.grid import DEFAULT_CELL
@@ -215,8 +225,7 @@ def cmd_play(args: argparse.Namespace) -> int:
     from invaders.app.outputs import PICTURE_SUFFIXES, REPLAY_SUFFIXES, check_output
     from invaders.app.play import play, screenshot
 
-    choice = _lab_choice(args)
-    lab = choice if args.lab or choice.speed > 1 or not choice.is_default else None
+    lab = _lab_choice(args) if args.lab or _lab_asked(args) else None
     if args.screenshot:
         check_output(args.screenshot, "screenshot", PICTURE_SUFFIXES)
         return screenshot(args.screenshot, seed=args.seed, ticks=args.ticks, scale=args.scale,

@@ -20,7 +20,10 @@ missed it. The exit code is 1 when a median misses a goal.
 
 from __future__ import annotations
 
+import os
 import statistics
+import subprocess
+import sys
 import time
 from collections.abc import Sequence
 
@@ -44,6 +47,7 @@ from invaders.lab.timing import no_gc
 
 TPS_GOAL = 5000
 AUTOPILOT_SHARE_GOAL = 1 / 3  # at most this part of an autopilot game is the autopilot
+STARTUP_GOAL = 1.5  # `invaders run --ticks 1` against `python -c "import pygame"`, at most
 NAIVE_GOAL = 20.0  # detection, times faster than groupcollide + collide_mask
 CAREFUL_GOAL = 10.0  # times faster than groupcollide rects, then collide_mask on the hits
 ALE_GOALS = {"autopilot": 3.0, "replay": 5.0, "bare": 8.0}  # times ALE's frames per second
@@ -112,6 +116,20 @@ def autopilot_share(ticks: int, seed: int) -> float:
             thinking += t1 - t0
             stepping += t2 - t1
     return thinking / (thinking + stepping)
+
+
+def startup_seconds(command: list[str]) -> float:
+    """Wall seconds for a fresh interpreter to run `command` (the program's own bytecode
+    cached where the environment allows it)."""
+    env = dict(os.environ)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    start = time.perf_counter()
+    subprocess.run([sys.executable, *command], env=env, capture_output=True, check=True)
+    return time.perf_counter() - start
+
+
+PYGAME_ONLY = ["-c", "import pygame"]
+ONE_TICK = ["-m", "invaders.app.cli", "run", "--ticks", "1"]
 
 
 def bare_seconds(ticks: int, seed: int) -> float:
@@ -204,6 +222,10 @@ def bench(ticks: int = 3600, seed: int = 7, rounds: int = 10, ale: bool = False)
     def share() -> None:
         figures.add("autopilot share", autopilot_share(ticks, seed))
 
+    def startup() -> None:
+        figures.add("import pygame s", startup_seconds(PYGAME_ONLY))
+        figures.add("run one tick s", startup_seconds(ONE_TICK))
+
     def replay() -> None:
         figures.add("replay ticks/s", ticks / replay_seconds(replays[0]))
 
@@ -217,7 +239,7 @@ def bench(ticks: int = 3600, seed: int = 7, rounds: int = 10, ale: bool = False)
         seconds, found[name] = run(prepared)
         figures.add(f"{name} us", 1e6 * seconds / n)
 
-    contenders = [lambda: game("grid"), lambda: game("brute"), replay, share, ours,
+    contenders = [lambda: game("grid"), lambda: game("brute"), replay, share, startup, ours,
                   lambda: reference("naive", groupcollide_frames),
                   lambda: reference("careful", rect_then_mask_frames)]
     if ale:
@@ -257,7 +279,13 @@ def bench(ticks: int = 3600, seed: int = 7, rounds: int = 10, ale: bool = False)
           + f"   grid/brute {statistics.median(grid_brute):.2f}x")
     print(line("replay (its recorded inputs, checked)", "replay ticks/s", "ticks/s", ",.0f"))
     print(line("the autopilot's part of the grid game", "autopilot share", "", ".1%"))
+    startup_ratio = figures.ratios("run one tick s", "import pygame s")
+    print(line("start-up: invaders run --ticks 1", "run one tick s", "s", ".3f")
+          + f"   {statistics.median(startup_ratio):.2f}x import pygame "
+            f"({figures.median('import pygame s'):.3f} s)")
     goal(f"grid >= {TPS_GOAL:,} ticks/s", figures.values["grid ticks/s"], TPS_GOAL)
+    goal(f"start-up <= {STARTUP_GOAL}x python -c 'import pygame'", startup_ratio, STARTUP_GOAL,
+         at_most=True)
     goal("the autopilot <= 1/3 of an autopilot game", figures.values["autopilot share"],
          AUTOPILOT_SHARE_GOAL, at_most=True)
     print(f"2. detection per tick on the same {n} recorded frames "

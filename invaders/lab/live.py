@@ -34,7 +34,7 @@ from invaders.lab.oracle import true_contacts
 from invaders.lab.score import Judged, Score, Scorer
 
 OPTIONS: dict[str, tuple] = {
-    "broad": ("grid", "brute", "sweep"),
+    "broad": ("grid", "brute", "sweep", "numpy"),
     "cell": CELLS,
     "quick": ("rect", "circle"),
     "thorough": ("mask", "none"),

@@ -1,9 +1,10 @@
 """The method matrix: each cell a way to detect collisions, built as a Detector.
 
 Dimensions: broad phase (brute force, grid with a cell of 4 to 128 px or chosen from the
-scene, sort-and-sweep), quick test (rect, circle), thorough test (none: boxes are taken as
-the shapes; mask), motion (discrete, swept, or auto: per entry, the cheapest proven exact for
-the scene's speeds), and temporal sampling (detection every 1, 2, 4 or 8 original frames).
+scene, sort-and-sweep, the numpy broad phase), quick test (rect, circle), thorough test
+(none: boxes are taken as the shapes; mask), motion (discrete, swept, or auto: per entry,
+the cheapest proven exact for the scene's speeds), and temporal sampling (detection every
+1, 2, 4 or 8 original frames).
 Every broad phase gives the same contacts (the contract), so accuracy depends only on the
 other dimensions, and speed on all of them.
 """
@@ -27,7 +28,7 @@ MULTIPLIERS = (1, 2, 4, 8, 16)
 
 @dataclass(frozen=True)
 class Method:
-    broad: str = "grid"  # brute | grid | sweep
+    broad: str = "grid"  # brute | grid | sweep | numpy
     cell: int = DEFAULT_CELL  # grid cell in px; 0: chosen from the scene
     quick: str = "rect"  # rect | circle
     thorough: str = "mask"  # none | mask
@@ -88,5 +89,5 @@ def accuracy_matrix(quick: bool) -> list[Method]:
 def broad_matrix(quick: bool) -> list[Method]:
     """Broad-phase cells with the default narrow phase."""
     cells = (8, 16, 32, 64) if quick else CELLS
-    return ([Method(broad="brute"), Method(broad="sweep"), Method(cell=0)]
+    return ([Method(broad="brute"), Method(broad="sweep"), Method(broad="numpy"), Method(cell=0)]
             + [Method(cell=c) for c in cells])

@@ -165,6 +165,7 @@ def scaling_rows(plan: Plan, rows: list[dict], budget: float) -> list[dict]:
         out.append({"bodies": n, "ours_auto": mine.get("gridauto"),
                     "grid_default": mine.get(f"grid{DEFAULT_CELL}"),
                     "sweep": mine.get("sweep"), "brute": mine.get("brute"),
+                    "numpy": mine.get("numpy"),
                     "groupcollide_mask": round(groupcollide_us(frames, budget), 1),
                     "pymunk_boxes": pymunk_us(frames)})
     return out
@@ -202,6 +203,8 @@ def study(out: Path, replays: Path | None, quick: bool = False, jobs: int = 1,
                         f"Pipeline counters per tick, {recorded[0].stem}")
     series = {label: [(r["bodies"], r[key]) for r in scale if r.get(key)]
               for label, key in (("ours (broad phase chosen from the scene)", "ours_auto"),
+                                 ("grid, 32 px", "grid_default"),
+                                 ("numpy broad phase", "numpy"),
                                  ("brute force", "brute"), ("sort-and-sweep", "sweep"),
                                  ("groupcollide + collide_mask", "groupcollide_mask"),
                                  ("pymunk spatial hash, boxes only", "pymunk_boxes"))}

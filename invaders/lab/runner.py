@@ -25,7 +25,8 @@ from invaders.lab.oracle import true_contacts
 from invaders.lab.score import Scorer
 from invaders.lab.storm import Storm, storm_rules
 
-AUTO_CHOICES = (Method(broad="brute"), Method(broad="sweep"), Method(cell=8), Method(cell=16),
+AUTO_CHOICES = (Method(broad="brute"), Method(broad="sweep"), Method(broad="numpy"),
+                Method(cell=8), Method(cell=16),
                 Method(cell=32), Method(cell=64))
 
 

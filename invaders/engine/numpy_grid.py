@@ -1,0 +1,284 @@
+"""A broad phase on numpy arrays, for big scenes: boxes kept between ticks, cells joined by
+sorting, and a vectorised box test so only real candidates reach the pixel tests.
+
+Each kind's boxes live in arrays (x0, y0, x1, y1, half-open), changed only for the bodies
+the store put in the move buffer: a swept kind's box covers its motion over the tick, and
+a body that stopped keeps that larger box until it next changes (a superset, as in the
+grid). For a group, the boxes of both sides are hashed into the cells they cover, the cell
+keys are joined by a sort and two `searchsorted` calls, and the pairs sharing a cell are
+kept only if their boxes overlap; a pair sharing several cells is kept once. The fixed
+cost is a few dozen numpy calls a group, so it pays only in big scenes (see
+`detector.NUMPY_FROM`); its pairs are those brute force would test whose boxes overlap,
+so the contacts are the same as with every other broad phase.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Protocol
+
+import numpy as np
+
+from invaders.engine.body import Body
+from invaders.engine.broadphase import Group, KindSets, Pair, Scene, ordered
+from invaders.engine.grid import DEFAULT_CELL
+
+ZONE_CELL = 64  # zones are a few wide lanes
+STRIDE = 1 << 21  # cell key = cy * STRIDE + cx, with cells offset to be non-negative
+OFFSET = 1 << 20
+
+
+class ZoneTest(Protocol):
+    """A zone as the detector indexes it: its boxes, and the exact test of one body."""
+
+    zone: tuple[tuple[int, int, int, int], ...]
+
+    def holds(self, body: Body, tick: int) -> bool: ...
+
+
+class Boxes:
+    """One kind's bodies and their boxes, row i of the arrays being `bodies[i]`."""
+
+    def __init__(self) -> None:
+        self.n = 0
+        self.bodies: list[Body] = []
+        self.slot: dict[int, int] = {}
+        self.xy = np.zeros((64, 4), dtype=np.int64)  # x0, y0, x1, y1
+        self.ids = np.zeros(64, dtype=np.int64)
+        self.swept_at = np.full(64, -1, dtype=np.int64)  # tick a row's box spans a motion
+        self.version = 0  # changes whenever a row does: cells worked out before are stale
+        self._cells: dict[tuple[int, bool], tuple[int, np.ndarray, np.ndarray]] = {}
+
+    def cells(self, cell: int, looked_up: bool) -> tuple[np.ndarray, np.ndarray]:
+        """(cell key, row) of every cell each box covers, sorted by key if `looked_up`;
+        kept until a row changes, so a kind that does not move is hashed once."""
+        kept = self._cells.get((cell, looked_up))
+        if kept is not None and kept[0] == self.version:
+            return kept[1], kept[2]
+        keys, rows = _cells(self.xy[:self.n], cell)
+        if looked_up:
+            order = np.argsort(keys, kind="stable")
+            keys, rows = keys[order], rows[order]
+        self._cells[(cell, looked_up)] = (self.version, keys, rows)
+        return keys, rows
+    def add(self, body: Body) -> None:
+        if self.n == len(self.xy):
+            self.xy = np.concatenate([self.xy, np.zeros_like(self.xy)])
+            self.ids = np.concatenate([self.ids, np.zeros_like(self.ids)])
+            self.swept_at = np.concatenate([self.swept_at, np.full_like(self.swept_at, -1)])
+        self.slot[body.id] = self.n
+        self.ids[self.n] = body.id
+        self.version += 1
+        self.bodies.append(body)
+        self.n += 1
+
+    def remove(self, body: Body) -> None:
+        """Swap the last row into its place."""
+        i = self.slot.pop(body.id)
+        last = self.n - 1
+        if i != last:
+            moved = self.bodies[last]
+            self.bodies[i] = moved
+            self.slot[moved.id] = i
+            self.xy[i] = self.xy[last]
+            self.ids[i] = moved.id
+            self.swept_at[i] = self.swept_at[last]
+        self.bodies.pop()
+        self.n = last
+        self.version += 1
+
+
+def _boxes(bodies: list[Body], tick: int, swept: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The bodies' boxes (as `tick_box` gives them), worked out together, and for each the
+    tick whose motion it spans (-1: it spans none, so it stays exact while it rests)."""
+    raw = np.array([(b.x, b.y, b.w, b.h, b.px, b.py, b.moved_tick) for b in bodies],
+                   dtype=np.int64)
+    x, y, w, h = raw[:, 0], raw[:, 1], raw[:, 2], raw[:, 3]
+    out = np.empty((len(bodies), 4), dtype=np.int64)
+    out[:, 0], out[:, 1], out[:, 2], out[:, 3] = x, y, x + w, y + h
+    if not swept:
+        return out, np.full(len(bodies), -1, dtype=np.int64)
+    moved = raw[:, 6] == tick
+    px, py = raw[:, 4], raw[:, 5]
+    out[:, 0] = np.where(moved, np.minimum(x, px), x)
+    out[:, 1] = np.where(moved, np.minimum(y, py), y)
+    out[:, 2] = np.where(moved, np.maximum(x, px) + w, x + w)
+    out[:, 3] = np.where(moved, np.maximum(y, py) + h, y + h)
+    return out, np.where(moved, tick, -1)
+
+
+def _cells(xy: np.ndarray, cell: int) -> tuple[np.ndarray, np.ndarray]:
+    """(cell key, row) for every cell each box covers."""
+    c0 = xy[:, :2] // cell
+    c1 = (xy[:, 2:] - 1) // cell
+    span = c1 - c0 + 1
+    counts = span[:, 0] * span[:, 1]
+    rows = np.repeat(np.arange(len(xy)), counts)
+    if len(rows) == len(xy):  # every box in one cell: the common case
+        cx, cy = c0[:, 0], c0[:, 1]
+    else:
+        first = np.repeat(np.cumsum(counts) - counts, counts)
+        k = np.arange(len(rows)) - first
+        width = span[rows, 0]
+        cx = c0[rows, 0] + k % width
+        cy = c0[rows, 1] + k // width
+    return (cy + OFFSET) * STRIDE + (cx + OFFSET), rows
+
+
+def box_pairs(a: np.ndarray, b: np.ndarray, cell: int,
+              a_cells: tuple[np.ndarray, np.ndarray] | None = None,
+              b_sorted: tuple[np.ndarray, np.ndarray] | None = None,
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """Rows (i, j) of boxes a[i] and b[j] that overlap, each pair once, by way of the
+    cells they share (`a_cells`, and `b_sorted` sorted by key, if already worked out)."""
+    ka, ra = a_cells if a_cells is not None else _cells(a, cell)
+    if b_sorted is not None:
+        kb, rb = b_sorted
+    else:
+        kb, rb = _cells(b, cell)
+        order = np.argsort(kb, kind="stable")
+        kb, rb = kb[order], rb[order]
+    lo = np.searchsorted(kb, ka, "left")
+    hi = np.searchsorted(kb, ka, "right")
+    n = hi - lo
+    has = n > 0
+    if not has.any():
+        empty = np.zeros(0, dtype=np.int64)
+        return empty, empty
+    ra, lo, n = ra[has], lo[has], n[has]
+    total = int(n.sum())
+    i = np.repeat(ra, n)
+    j = rb[np.repeat(lo, n) + np.arange(total) - np.repeat(np.cumsum(n) - n, n)]
+    ai, bj = a[i], b[j]
+    hit = ((ai[:, 0] < bj[:, 2]) & (bj[:, 0] < ai[:, 2])
+           & (ai[:, 1] < bj[:, 3]) & (bj[:, 1] < ai[:, 3]))
+    i, j = i[hit], j[hit]
+    if len(i) > 1:
+        key = np.unique(i * len(b) + j)  # a pair that shares several cells: once
+        i, j = key // len(b), key % len(b)
+    return i, j
+
+
+class NumpyGrid:
+    """Broad phase for big scenes: numpy arrays of boxes, cells joined by sorting."""
+
+    name = "numpy"
+
+    def __init__(self, cell: int = DEFAULT_CELL) -> None:
+        if cell < 1:
+            raise ValueError("grid cell size must be at least 1 px")
+        self.cell = cell
+        self.move_buffer: list[Body] = []
+        self.boxes: dict[int, Boxes] = {}
+        self._zones: dict[int, tuple[ZoneTest, np.ndarray]] = {}
+
+    def rebuild(self, scene: Scene, kinds: KindSets) -> None:
+        buffer = self.move_buffer  # the store holds this very list: refill it, never replace
+        buffer.clear()
+        buffer.extend(b for bodies in scene.by_kind.values() for b in bodies)
+        self.boxes = {}
+        self._drain(scene.tick, kinds)
+
+    def _drain(self, tick: int, kinds: KindSets) -> None:
+        """Apply the move buffer: rows added and removed at once, boxes written together."""
+        swept = kinds.swept
+        boxes = self.boxes
+        changed: dict[int, Body] = {}
+        for body in self.move_buffer:
+            table = boxes.get(body.kind)
+            if table is None:
+                table = boxes[body.kind] = Boxes()
+            present = body.id in table.slot
+            if body.alive:
+                if not present:
+                    table.add(body)
+                changed[body.id] = body
+            elif present:
+                table.remove(body)
+        self.move_buffer.clear()
+        by_kind: dict[int, list[Body]] = {}
+        for body in changed.values():
+            if body.alive:
+                by_kind.setdefault(body.kind, []).append(body)
+        for kind, bodies in by_kind.items():
+            table = boxes[kind]
+            slot = table.slot
+            rows = [slot[b.id] for b in bodies]
+            table.xy[rows], table.swept_at[rows] = _boxes(bodies, tick, kind in swept)
+            table.version += 1
+
+    def in_zone(self, scene: Scene, kind: int, zone: ZoneTest, kinds: KindSets) -> list[Body]:
+        """The bodies of a kind whose box over the tick meets a zone, in id order: the
+        stored boxes (exact, or a superset for a body that stopped) against the zone's
+        boxes at once, then the few that meet one tested exactly."""
+        if self.move_buffer:
+            self._drain(scene.tick, kinds)
+        table = self.boxes.get(kind)
+        if table is None or not table.n:
+            return []
+        zone_xy = self._zones.get(id(zone))
+        if zone_xy is None or zone_xy[0] is not zone:
+            boxes = np.array([(x, y, x + w, y + h) for x, y, w, h in zone.zone], dtype=np.int64)
+            zone_xy = self._zones[id(zone)] = (zone, boxes.reshape(-1, 4))
+        rows, _ = box_pairs(table.xy[:table.n], zone_xy[1], ZONE_CELL)
+        if not len(rows):
+            return []
+        rows = np.unique(rows)
+        rows = rows[np.argsort(table.ids[rows])]
+        tick = scene.tick
+        spans = table.swept_at[rows]
+        exact = ((spans == -1) | (spans == tick)).tolist()  # its box is this tick's own
+        bodies = table.bodies
+        return [bodies[r] for r, sure in zip(rows.tolist(), exact, strict=True)
+                if sure or zone.holds(bodies[r], tick)]
+
+    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> list[Pair]:
+        if self.move_buffer:
+            self._drain(scene.tick, kinds)
+        boxes = self.boxes
+        found = []  # per group: (entry, bodies of a, of b, rows i, rows j, low ids, high ids)
+        for rule, side_a, side_b in groups:
+            table_a, table_b = boxes.get(rule.a), boxes.get(rule.b)
+            if table_a is None or table_b is None or not side_a or not side_b:
+                continue
+            a_bodies, a_rows = self._side(table_a, side_a)
+            b_bodies, b_rows = self._side(table_b, side_b)
+            a_xy = table_a.xy[a_rows]
+            b_xy = table_b.xy[b_rows]
+            whole_a = isinstance(a_rows, slice)
+            whole_b = isinstance(b_rows, slice)
+            i, j = box_pairs(a_xy, b_xy, self.cell,
+                             table_a.cells(self.cell, False) if whole_a else None,
+                             table_b.cells(self.cell, True) if whole_b else None)
+            if not len(i):
+                continue
+            ida, idb = table_a.ids[a_rows][i], table_b.ids[b_rows][j]
+            if rule.a == rule.b:  # a pair of one kind: once, and never a body with itself
+                keep = ida < idb
+                i, j, ida, idb = i[keep], j[keep], ida[keep], idb[keep]
+            found.append((rule, a_bodies, b_bodies, i, j, np.minimum(ida, idb),
+                          np.maximum(ida, idb)))
+        if not found:
+            return []
+        if len(found) == 1:
+            rule, a_bodies, b_bodies, i, j, low, high = found[0]
+            order = np.lexsort((high, low))
+            return [ordered(a_bodies[p], b_bodies[q], rule)
+                    for p, q in zip(i[order].tolist(), j[order].tolist(), strict=True)]
+        group = np.concatenate([np.full(len(f[3]), n) for n, f in enumerate(found)])
+        at = np.concatenate([np.arange(len(f[3])) for f in found])
+        order = np.lexsort((np.concatenate([f[6] for f in found]),
+                            np.concatenate([f[5] for f in found])))
+        out: list[Pair] = []
+        for g, k in zip(group[order].tolist(), at[order].tolist(), strict=True):
+            rule, a_bodies, b_bodies, i, j, _, _ = found[g]
+            out.append(ordered(a_bodies[int(i[k])], b_bodies[int(j[k])], rule))
+        return out
+
+    @staticmethod
+    def _side(table: Boxes, side: Sequence[Body]) -> tuple[Sequence[Body], slice | list[int]]:
+        """The bodies of a group's side and their rows: the whole table when the side is
+        the whole kind, else the rows of the side's bodies (a zone's)."""
+        if len(side) == table.n:
+            return table.bodies, slice(0, table.n)
+        return side, [table.slot[b.id] for b in side]
