@@ -104,3 +104,13 @@ def test_bad_study_options_are_one_line(capsys, args, problem):
     assert main(args) == 2
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and problem in err
+
+
+def test_speed_is_charted_per_family_relative_to_the_fastest_on_the_same_scenes(serial_rows):
+    families = charts.family_points(serial_rows)
+    assert set(families) == {"game scale (replays)", "storms of 300 bodies"}
+    for points in families.values():
+        assert min(x for x, _, _ in points) >= 1.0
+        assert any(label == "rect/mask/auto/every1" and y == 0 for _, y, label in points)
+    storm = families["storms of 300 bodies"]  # one scene: its fastest method is at 1
+    assert min(x for x, _, _ in storm) == 1.0

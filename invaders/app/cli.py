@@ -131,6 +131,9 @@ def build_parser() -> Parser:
     bench.add_argument("--ale", action="store_true",
                        help="also time the Arcade Learning Environment's emulated Space "
                             "Invaders (needs the compare extra: ale-py)")
+    bench.add_argument("--big", action="store_true",
+                       help="also time storms of 1,000 and 10,000 bodies: the grid, the numpy "
+                            "broad phase, the automatic choice and pymunk")
     bench.add_argument("--rounds", type=_int_in("--rounds", 3, 100), default=10,
                        help="interleaved rounds; figures are medians over them")
     return parser
@@ -275,7 +278,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
         if not available():
             raise UsageError("--ale needs ale-py: pip install -e '.[compare]'")
     try:
-        return bench(ticks=args.ticks, seed=args.seed, rounds=args.rounds, ale=args.ale)
+        return bench(ticks=args.ticks, seed=args.seed, rounds=args.rounds, ale=args.ale,
+                     big=args.big)
     except BenchFailure as err:
         print(f"invaders: bench: {err}", file=sys.stderr)
         return 1

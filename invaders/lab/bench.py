@@ -35,7 +35,7 @@ from invaders.game.replay import Checkpoint, Replay
 from invaders.game.replay import run as run_replay
 from invaders.game.world import Phase, World
 from invaders.lab.autopilot import Autopilot
-from invaders.lab.frames import Frame, play_frames
+from invaders.lab.frames import Frame, FrameScene, play_frames
 from invaders.lab.references import (
     GAME_RULES,
     groupcollide_frames,
@@ -204,7 +204,89 @@ class Rounds:
         return [a / b for a, b in zip(self.values[top], self.values[bottom], strict=True)]
 
 
-def bench(ticks: int = 3600, seed: int = 7, rounds: int = 10, ale: bool = False) -> int:
+BIG_SIZES = (1000, 10000)
+BIG_TICKS = {1000: 40, 10000: 12}
+BIG_GOALS = {"numpy/grid": 3.0, "numpy/pymunk": 3.0, "auto/grid at 1000": 0.95}
+
+
+def steady_seconds(broadphase: str, frames: list[Frame], rules) -> tuple[float, list]:
+    """Seconds our detector spends on the frames after the first (which builds its
+    state untimed, as pymunk's first frame is), and the contacts of each."""
+    scene = FrameScene()
+    detector = Detector(make_broadphase(broadphase), rules)
+    scene.load(frames[0])
+    detector.detect(scene.store)
+    seconds = 0.0
+    found = []
+    with no_gc():
+        for frame in frames[1:]:
+            scene.load(frame)
+            start = time.perf_counter()
+            contacts, _ = detector.detect(scene.store)
+            seconds += time.perf_counter() - start
+            found.append([(c.a_id, c.b_id, c.time) for c in contacts])
+    return seconds, found
+
+
+def big_scenes(rounds: int, goal) -> None:
+    """Section 4: storms of 1,000 and 10,000 bodies, detection per tick in steady state:
+    the grid, the numpy broad phase, the automatic choice and pymunk's spatial hash."""
+    from invaders.lab.references import PymunkScene
+    from invaders.lab.runner import SceneSpec, record, scene_rules
+
+    try:
+        import pymunk  # noqa: F401
+        has_pymunk = True
+    except ImportError:
+        has_pymunk = False
+    print("4. big scenes: storms (no response, so overlaps persist), detection per tick "
+          "after the first frame")
+    for n in BIG_SIZES:
+        spec = SceneSpec.storm(n, BIG_TICKS[n])
+        frames = record(spec)
+        rules = scene_rules(spec)
+        figures = Rounds()
+        contacts: dict[str, list] = {}
+
+        def ours(name: str, frames=frames, rules=rules, figures=figures,
+                 contacts=contacts) -> None:
+            seconds, contacts[name] = steady_seconds(name, frames, rules)
+            figures.add(name, 1e3 * seconds / (len(frames) - 1))
+
+        def theirs(frames=frames, figures=figures, rules=rules) -> None:
+            scene = PymunkScene(frames, rules)
+            figures.add("pymunk", 1e3 * scene.seconds() / (len(frames) - 1))
+
+        contenders = [lambda: ours("grid"), lambda: ours("numpy"), lambda: ours("auto")]
+        if has_pymunk:
+            contenders.append(theirs)
+        for index in range(rounds):
+            for run in contenders if index % 2 == 0 else contenders[::-1]:
+                run()
+        same = contacts["grid"] == contacts["numpy"] == contacts["auto"]
+        print(f"   {n:,} bodies, {len(frames) - 1} ticks"
+              + ("" if same else ": WARNING the broad phases found different contacts"))
+        for name, label in (("grid", "grid, 32 px"), ("numpy", "numpy broad phase"),
+                            ("auto", "automatic choice"),
+                            ("pymunk", "pymunk spatial hash, boxes only")):
+            if name not in figures.values:
+                continue
+            ratio = figures.ratios("grid", name)
+            print(f"   {label:<44}{figures.median(name):>9.2f} ms  "
+                  f"{figures.spread(name, '.2f')}   grid/this {statistics.median(ratio):.2f}x")
+        if n == max(BIG_SIZES):
+            goal(f"numpy >= {BIG_GOALS['numpy/grid']:.0f}x faster than the grid at {n:,}",
+                 figures.ratios("grid", "numpy"), BIG_GOALS["numpy/grid"], same)
+            if has_pymunk:
+                goal(f"numpy >= {BIG_GOALS['numpy/pymunk']:.0f}x faster than pymunk at {n:,}",
+                     figures.ratios("pymunk", "numpy"), BIG_GOALS["numpy/pymunk"])
+        else:
+            goal(f"the automatic choice no slower than the grid at {n:,} (within 5%)",
+                 figures.ratios("grid", "auto"), BIG_GOALS["auto/grid at 1000"], same)
+
+
+def bench(ticks: int = 3600, seed: int = 7, rounds: int = 10, ale: bool = False,
+          big: bool = False) -> int:
     replays: list[Replay] = []
     _, _, frames = play_game(ticks, seed, "grid", record=True, recorder=replays)
     prepared = prepare(frames)
@@ -325,4 +407,6 @@ def bench(ticks: int = 3600, seed: int = 7, rounds: int = 10, ale: bool = False)
         for name, target in ALE_GOALS.items():
             goal(f"{name} >= {target:.0f}x ALE's frames per second",
                  figures.ratios(keys[name], "ale frames/s"), target)
+    if big:
+        big_scenes(rounds, goal)
     return 1 if missed_goals else 0

@@ -1,7 +1,8 @@
 """The study's three charts (matplotlib, the [chart] extra), written as PNG atomically.
 
-1. Speed against accuracy: one point per method (time per tick against errors per true
-   contact, over the accuracy scenes), the Pareto front marked.
+1. Speed against accuracy, one panel per family of scenes (the game's replays; storms of
+   one size): one point per method, its time relative to the fastest method on the same
+   scenes against its errors per true contact, the Pareto front and the default marked.
 2. Counters per tick over a game: how many pairs each pipeline step considered.
 3. Time per tick against body count, log-log: ours, brute force, groupcollide with
    collide_mask, pymunk's spatial hash (boxes only).
@@ -72,27 +73,59 @@ def method_points(rows: list[dict]) -> list[tuple[float, float, str]]:
     return [(time_sum[k] / count[k], errors[k] / max(1, true[k]), k) for k in time_sum]
 
 
+def family(scene: str) -> str:
+    """The family a scene is drawn with: the game's replays, or storms of one size."""
+    if scene.startswith("replay:"):
+        return "game scale (replays)"
+    return f"storms of {scene[len('storm'):].split('x')[0]} bodies"
+
+
+def family_points(rows: list[dict]) -> dict[str, list[tuple[float, float, str]]]:
+    """Per family: (time relative to the fastest method on the same scene, averaged over
+    the family's scenes; errors per true contact; label) per narrow-phase method."""
+    cells = [r for r in rows if r["method"].startswith(f"grid{DEFAULT_CELL}/")]
+    fastest: dict[str, float] = {}
+    for row in cells:
+        us = float(row["us_per_tick"])
+        fastest[row["scene"]] = min(fastest.get(row["scene"], us), us)
+    out = {}
+    for name in sorted({family(r["scene"]) for r in cells}):
+        mine = [r for r in cells if family(r["scene"]) == name]
+        relative = [dict(r, us_per_tick=float(r["us_per_tick"]) / max(fastest[r["scene"]],
+                                                                       1e-9))
+                    for r in mine]
+        out[name] = method_points(relative)
+    return out
+
+
 def speed_accuracy(rows: list[dict], path: Path) -> None:
     plt = _pyplot()
-    points = method_points(rows)
-    front = pareto(points)
-    fig, ax = plt.subplots(figsize=(8, 5.5))
-    ax.scatter([p[0] for p in points], [p[1] for p in points], s=18, color="#8899aa",
-               label="methods")
-    ax.plot([p[0] for p in front], [p[1] for p in front], "-o", color="#d62728", ms=5,
-            label="Pareto front")
-    for x, y, label in front:
-        ax.annotate(label, (x, y), fontsize=7, xytext=(4, 4), textcoords="offset points")
-    default = [p for p in points if p[2] == "rect/mask/auto/every1"]
-    if default:
-        ax.scatter([default[0][0]], [default[0][1]], s=90, marker="*", color="#2ca02c",
-                   zorder=5, label="default (rect/mask/auto/every1)")
-    ax.set_xscale("log")
-    ax.set_yscale("symlog", linthresh=0.01)
-    ax.set_ylim(bottom=0)
-    _finish(plt, fig, ax, path, "detection time per original tick (us, log)",
-            "errors per true contact (missed + false + late)",
-            "Speed against accuracy: quick test / thorough test / motion / sampling")
+    families = family_points(rows)
+    fig, axes = plt.subplots(1, len(families), figsize=(6.5 * len(families), 5.5),
+                             squeeze=False)
+    for ax, (name, points) in zip(axes[0], families.items(), strict=True):
+        front = pareto(points)
+        ax.scatter([p[0] for p in points], [p[1] for p in points], s=18, color="#8899aa",
+                   label="methods")
+        ax.plot([p[0] for p in front], [p[1] for p in front], "-o", color="#d62728", ms=5,
+                label="Pareto front")
+        for x, y, label in front:
+            ax.annotate(label, (x, y), fontsize=7, xytext=(4, 4), textcoords="offset points")
+        default = [p for p in points if p[2] == "rect/mask/auto/every1"]
+        if default:
+            ax.scatter([default[0][0]], [default[0][1]], s=90, marker="*", color="#2ca02c",
+                       zorder=5, label="default (rect/mask/auto/every1)")
+        ax.set_xscale("log")
+        ax.set_yscale("symlog", linthresh=0.01)
+        ax.set_ylim(bottom=0)
+        ax.set_xlabel("time per tick, relative to the fastest method on the same scenes")
+        ax.set_ylabel("errors per true contact (missed + false + late)")
+        ax.set_title(f"{name}: quick / thorough / motion / sampling", fontsize=10)
+        ax.legend(fontsize=8, loc="best")
+        ax.grid(True, which="both", alpha=0.3)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, bbox_inches="tight")
+    plt.close(fig)
 
 
 def counters(series: dict[str, list[int]], path: Path, title: str) -> None:
