@@ -89,12 +89,17 @@ def family_points(rows: list[dict]) -> dict[str, list[tuple[float, float, str]]]
         us = float(row["us_per_tick"])
         fastest[row["scene"]] = min(fastest.get(row["scene"], us), us)
     out = {}
-    for name in sorted({family(r["scene"]) for r in cells}):
+    names = {family(r["scene"]): r["scene"] for r in cells}
+    order = sorted(names, key=lambda n: (n.startswith("storms"), int(
+        names[n][len("storm"):].split("x")[0]) if n.startswith("storms") else 0))
+    for name in order:
         mine = [r for r in cells if family(r["scene"]) == name]
         relative = [dict(r, us_per_tick=float(r["us_per_tick"]) / max(fastest[r["scene"]],
                                                                        1e-9))
                     for r in mine]
-        out[name] = method_points(relative)
+        points = method_points(relative)
+        if len(points) > 1:  # a family timed with the default alone says nothing here
+            out[name] = points
     return out
 
 

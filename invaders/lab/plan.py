@@ -29,7 +29,7 @@ class Plan:
     work: list[tuple[SceneSpec, list[Method]]] = field(default_factory=list)
     scaling: list[int] = field(default_factory=list)  # storm sizes for the scaling chart
     scaling_ticks: int = 8
-    repeat: int = 2  # each cell's time is the best of this many plays
+    repeat: int = 3  # each cell's time is the median of this many plays
 
     @property
     def cells(self) -> int:
@@ -57,7 +57,7 @@ def make_plan(replays: Iterable[Path], quick: bool) -> Plan:
         plan.work.append((SceneSpec.storm(n, storm_ticks), methods))
     plan.scaling = list(sizes)
     plan.scaling_ticks = storm_ticks
-    plan.repeat = 2 if quick else 3
+    plan.repeat = 1 if quick else 3
     return plan
 
 
@@ -152,9 +152,10 @@ def game_counters(replay: Path, ticks: int = 3600) -> dict[str, list[int]]:
 
 
 def scaling_rows(plan: Plan, rows: list[dict], budget: float) -> list[dict]:
-    """Per storm size: ours, brute force (from the cells), groupcollide and pymunk."""
-    from invaders.lab.references import groupcollide_us, pymunk_us
-    from invaders.lab.runner import record
+    """Per storm size: ours (chosen from the scene, the grid, numpy), brute force (from the
+    cells), groupcollide and pymunk given the same work (`references.PymunkScene`)."""
+    from invaders.lab.references import groupcollide_us, pymunk_steady_us
+    from invaders.lab.runner import record, scene_rules
 
     out = []
     for n in plan.scaling:
@@ -167,7 +168,8 @@ def scaling_rows(plan: Plan, rows: list[dict], budget: float) -> list[dict]:
                     "sweep": mine.get("sweep"), "brute": mine.get("brute"),
                     "numpy": mine.get("numpy"),
                     "groupcollide_mask": round(groupcollide_us(frames, budget), 1),
-                    "pymunk_boxes": pymunk_us(frames)})
+                    "pymunk_boxes": pymunk_steady_us(frames, scene_rules(
+                        SceneSpec.storm(n, plan.scaling_ticks)))})
     return out
 
 
