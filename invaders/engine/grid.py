@@ -140,37 +140,44 @@ class Grid:
         out: list[Pair] = []
         stride = self.STRIDE
         ranges = self.ranges
-        unbinned: dict[int, CellRange] = {}
-        swept = kinds.swept
+        unbinned: dict[int, CellRange] | None = None
+        swept, probed = kinds
         all_rows = self.rows
-        no_rows: dict[int, int] = {}
+        layers = self.layers
         for rule, probes, others in groups:
-            rows = all_rows.get(rule.b, no_rows)
+            rows = all_rows.get(rule.b)
             if not rows:
                 continue
-            if rule.a in kinds.probed and rows.keys().isdisjoint(all_rows.get(rule.a, ())):
+            kind_a = rule.a
+            if kind_a in probed and rows.keys().isdisjoint(all_rows.get(kind_a, ())):
                 continue  # both kinds binned, and no cell row holds both: nothing can meet
-            layer = self.layers[rule.b]
+            layer = layers[rule.b]
             allowed = None if rule.zone is None else {b.id for b in others}
             for probe in probes:
                 # Its binned range (exact, or for a resting swept body a safe superset), or
                 # for a kind that is never binned, worked out once per call.
                 r = ranges.get(probe.id)
                 if r is None:
+                    if unbinned is None:
+                        unbinned = {}
                     r = unbinned.get(probe.id)
                     if r is None:
-                        r = unbinned[probe.id] = self.cell_range(probe, probe.kind in swept, tick)
+                        r = unbinned[probe.id] = self.cell_range(probe, kind_a in swept, tick)
                 cx0, cy0, cx1, cy1 = r
-                for cy in range(cy0, cy1 + 1):
-                    if cy in rows:
-                        break
+                if cy0 == cy1:
+                    if cy0 not in rows:
+                        continue  # its one row holds no body of the other kind
+                    if cx0 == cx1:
+                        for other in layer.get(cy0 * stride + cx0, ()):
+                            if allowed is None or other.id in allowed:
+                                out.append(ordered(probe, other, rule))
+                        continue
                 else:
-                    continue  # no row of the probe holds any body of the other kind
-                if cx0 == cx1 and cy0 == cy1:
-                    for other in layer.get(cy0 * stride + cx0, ()):
-                        if allowed is None or other.id in allowed:
-                            out.append(ordered(probe, other, rule))
-                    continue
+                    for cy in range(cy0, cy1 + 1):
+                        if cy in rows:
+                            break
+                    else:
+                        continue  # no row of the probe holds any body of the other kind
                 seen: set[int] = set()
                 for cy in range(cy0, cy1 + 1):
                     for cx in range(cx0, cx1 + 1):

@@ -36,6 +36,8 @@ class BodyStore:
         self.next_id = 1
         self.listener: Listener | None = None
         self._buffer: list[Body] | None = None
+        self.size = 0  # live bodies, and a bit (1 << kind) for each kind that has some:
+        self.present = 0  # kept as they change, so a detector need not count every tick
 
     def attach(self, listener: Listener) -> None:
         """Send every later change to this broad phase (which rebuilds from the store). A
@@ -53,6 +55,8 @@ class BodyStore:
         body.alive = True
         body.shaped_tick = self.tick
         bodies = self.by_kind[body.kind]
+        self.size += 1
+        self.present |= 1 << body.kind
         if not bodies or bodies[-1].id < body.id:
             bodies.append(body)
         else:
@@ -105,12 +109,15 @@ class BodyStore:
         body.alive = False
         bodies = self.by_kind[body.kind]
         del bodies[bisect_left(bodies, body.id, key=_ID)]
+        self.size -= 1
+        if not bodies:
+            self.present &= ~(1 << body.kind)
         del self.by_id[body.id]
         if self._buffer is not None:
             self._buffer.append(body)
 
     def count(self) -> int:
-        return sum(len(bodies) for bodies in self.by_kind.values())
+        return self.size
 
 
 _gains: dict[tuple[int, int], tuple[pygame.mask.Mask, pygame.mask.Mask, bool]] = {}
