@@ -114,3 +114,13 @@ def test_speed_is_charted_per_family_relative_to_the_fastest_on_the_same_scenes(
         assert any(label == "rect/mask/auto/every1" and y == 0 for _, y, label in points)
     storm = families["storms of 300 bodies"]  # one scene: its fastest method is at 1
     assert min(x for x, _, _ in storm) == 1.0
+
+
+def test_big_adds_a_storm_of_30000_bodies_to_the_scaling_without_brute_force():
+    from invaders.lab.plan import BIG_STORM, make_plan
+
+    plan = make_plan([], quick=False, big=True)
+    assert plan.scaling[-1] == BIG_STORM == 30000
+    ((_, methods),) = [w for w in plan.work if w[0].bodies == BIG_STORM]
+    assert {m.broad for m in methods} == {"grid", "sweep", "numpy"}
+    assert BIG_STORM not in make_plan([], quick=False).scaling

@@ -116,6 +116,8 @@ def build_parser() -> Parser:
 
     study = sub.add_parser("study", help="speed against accuracy: the method matrix, charts")
     study.add_argument("--quick", action="store_true", help="a smaller matrix (under a minute)")
+    study.add_argument("--big", action="store_true",
+                       help="also a storm of 30,000 bodies in the scaling chart (minutes more)")
     study.add_argument("--jobs", type=_int_in("--jobs", 1, 64), default=1,
                        help="run scenes in this many processes")
     study.add_argument("--scheduler", metavar="ADDRESS",
@@ -317,7 +319,8 @@ def cmd_study(args: argparse.Namespace) -> int:
     check_output(str(made / "study.csv"), "study", (".csv",))
     from invaders.lab.plan import study
 
-    return study(out, replays, quick=args.quick, jobs=args.jobs, scheduler=args.scheduler)
+    return study(out, replays, quick=args.quick, jobs=args.jobs, scheduler=args.scheduler,
+                 big=args.big)
 
 
 COMMANDS = {"run": cmd_run, "play": cmd_play, "bench": cmd_bench, "replay": cmd_replay,

@@ -36,7 +36,10 @@ class Plan:
         return sum(len(methods) for _, methods in self.work)
 
 
-def make_plan(replays: Iterable[Path], quick: bool) -> Plan:
+BIG_STORM = 30000  # bodies, with --big (brute force left out, as above BRUTE_LIMIT)
+
+
+def make_plan(replays: Iterable[Path], quick: bool, big: bool = False) -> Plan:
     replays = sorted(replays)
     plan = Plan()
     if quick:
@@ -45,6 +48,8 @@ def make_plan(replays: Iterable[Path], quick: bool) -> Plan:
     else:
         replay_ticks, storm_ticks = 1800, 16
         multipliers, sizes = MULTIPLIERS, (100, 300, 1000, 3000, 10000)
+    if big:
+        sizes = (*sizes, BIG_STORM)
     accuracy = accuracy_matrix(quick)
     broad = broad_matrix(quick)
     both = list(dict.fromkeys(accuracy + broad))  # the default is in both lists
@@ -174,11 +179,11 @@ def scaling_rows(plan: Plan, rows: list[dict], budget: float) -> list[dict]:
 
 
 def study(out: Path, replays: Path | None, quick: bool = False, jobs: int = 1,
-          scheduler: str | None = None) -> int:
+          scheduler: str | None = None, big: bool = False) -> int:
     """Run the study; write study.csv, scaling.csv and the charts into `out`."""
     out.mkdir(parents=True, exist_ok=True)
     recorded = sorted(replays.glob("*.json")) if replays is not None else []
-    plan = make_plan(recorded, quick)
+    plan = make_plan(recorded, quick, big)
     where = f"on {scheduler}" if scheduler else f"{jobs} process{'es' if jobs > 1 else ''}"
     print(f"study: {plan.cells} cells over {len(plan.work)} scenes, {where}")
     bar = Progress(plan.cells, "study")
