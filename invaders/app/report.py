@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from collections import Counter
 from pathlib import Path
 from typing import IO
@@ -31,6 +30,10 @@ class ReportWriter:
         self.extra = extra
         if fmt == ".csv":
             handle.write(",".join((*COLUMNS, *extra)) + "\n")
+        else:
+            import json  # only for this format: a plain run starts without it
+
+            self._dumps = json.dumps
 
     def row(self, tick: int, stats: CollisionStats, events: tuple[str, ...],
             extra: tuple[int, ...] = ()) -> None:
@@ -40,7 +43,7 @@ class ReportWriter:
         else:
             record = {"tick": tick, **stats._asdict(), "events": list(events),
                       **dict(zip(self.extra, extra, strict=True))}
-            self.handle.write(json.dumps(record, separators=(",", ":")) + "\n")
+            self.handle.write(self._dumps(record, separators=(",", ":")) + "\n")
 
 
 class CounterTable:
