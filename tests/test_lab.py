@@ -210,3 +210,21 @@ def test_run_reports_the_shadows_running_score_in_its_columns(tmp_path, capsys):
     last = dict(zip(names, rows[-1].split(","), strict=True))
     true, on_time, missed = (int(last[f"shadow_{n}"]) for n in ("true", "on_time", "missed"))
     assert missed > 0 and f"{true} true contacts; on time {on_time}" in printed
+
+
+def test_the_panel_shows_each_counter_last_and_as_its_median_over_a_second():
+    import statistics
+
+    from invaders.app.labpanel import panel_lines
+
+    world = World(seed=3)
+    session, clock = windowed(world, pilot=Autopilot(3), lab=Choice())
+    objects = []
+    for _ in range(200):
+        clock.now += 1 / 60
+        session.frame(0)
+        objects.append(session.report.stats.objects)
+    detector = session.lab.detector
+    assert detector.counter_medians().objects == statistics.median(objects[-60:])
+    line = next(text for text, _ in panel_lines(session.lab) if text.startswith("objects"))
+    assert line.split()[1:] == [str(objects[-1]), f"{statistics.median(objects[-60:]):g}"]

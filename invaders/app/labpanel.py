@@ -36,7 +36,8 @@ TEXT = (230, 230, 230)
 DIM = (140, 140, 150)
 PANEL_PX_PER_SCALE = 112  # the panel is half a playfield wide,
 PANEL_MIN_PX = 260  # and never too narrow for its lines at the smallest text
-PANEL_TEXT_PX = 14  # never smaller, whatever the scale
+PANEL_TEXT_PX = 14  # the text's size at the smallest scales,
+MIN_TEXT_PX = 8  # and how small it may get to fit a short window
 
 
 class LabControl:
@@ -97,7 +98,7 @@ def panel_lines(control: LabControl) -> list[tuple[str, tuple[int, int, int]]]:
     """The panel's text, top to bottom, each line with its colour."""
     c = control.choice
     d = control.detector
-    lines = [("LAB   F4 closes", TEXT), ("", TEXT)]
+    lines = [("LAB   F4 closes", TEXT), ("with Shift: a step back", DIM)]
     rows = [("B", "broad phase", c.broad),
             ("[ ]", "grid cell", f"{c.cell} px" if c.broad == "grid" else "-"),
             ("Q", "quick test", c.quick),
@@ -106,57 +107,62 @@ def panel_lines(control: LabControl) -> list[tuple[str, tuple[int, int, int]]]:
             ("K", "sampling", f"every {c.sampling} tick" + ("s" if c.sampling > 1 else "")),
             ("- =", "speed", f"x{c.speed}")]
     lines += [(f"{key:<4}{name:<12}{value}", TEXT) for key, name, value in rows]
-    lines.append(("Shift steps back", DIM))
-    lines.append(("", TEXT))
-    lines.append((f"since tick {control.since}"
-                  + ("  (default)" if c.is_default else ""), DIM))
+    lines.append((f"since tick {control.since}" + ("  (default)" if c.is_default else ""),
+                  DIM))
     score = d.shadow.score if d.shadow is not None else None
     if score is not None:
         rate = f"{score.errors / score.true:.3f}" if score.true else "-"
-        lines += [(f"true contacts {score.true:>6}", TEXT),
-                  (f"on time       {score.on_time:>6}", TEXT),
-                  (f"late          {score.late:>6}", MARK_COLOURS["late"]),
-                  (f"missed        {score.missed:>6}", MARK_COLOURS["missed"]),
-                  (f"false         {score.false:>6}", MARK_COLOURS["false"]),
-                  (f"errors/true   {rate:>6}", TEXT)]
+        lines += [(f"true {score.true:<6} on time {score.on_time}", TEXT),
+                  (f"missed {score.missed}", MARK_COLOURS["missed"]),
+                  (f"late   {score.late}", MARK_COLOURS["late"]),
+                  (f"false  {score.false}", MARK_COLOURS["false"]),
+                  (f"errors per true contact {rate}", TEXT)]
     last, mid, ratio = d.timings()
-    lines += [("", TEXT), ("detection", DIM),
-              (f"this tick   {last * 1e6:8.1f} us", TEXT),
-              (f"median 1 s  {mid * 1e6:8.1f} us", TEXT),
-              (f"vs default  {'1.00x' if ratio is None else f'{ratio:.2f}x':>8}", TEXT)]
-    s = d.stats
-    lines += [("", TEXT), ("counters, last look", DIM),
-              (f"objects {s.objects}  rules {s.allowed_pairs}", TEXT),
-              (f"broad {s.candidates}  rect {s.rect_hits}/{s.rect_tests}", TEXT),
-              (f"mask {s.mask_hits}/{s.mask_tests}  swept {s.swept_tests}", TEXT),
-              (f"contacts {s.contacts}", TEXT)]
+    lines += [(f"detection  {last * 1e6:8.1f} us", TEXT),
+              (f"1 s median {mid * 1e6:8.1f} us", TEXT),
+              (f"vs default {'1.00x' if ratio is None else f'{ratio:.2f}x':>8}", TEXT)]
+    s, m = d.stats, d.counter_medians()
+    lines.append((f"{'counters':<11}{'last':>6}{'1 s':>7}", DIM))
+    lines += [(f"{name:<11}{getattr(s, field):>6}{getattr(m, field):>7g}", TEXT)
+              for name, field in (("objects", "objects"), ("rules", "allowed_pairs"),
+                                  ("broad", "candidates"), ("rect tests", "rect_tests"),
+                                  ("mask tests", "mask_tests"), ("swept", "swept_tests"),
+                                  ("contacts", "contacts"))]
     return lines
 
 
 class PanelPainter:
-    """Keeps the panel's font for the size it was last drawn at."""
+    """Keeps the panel's fonts by size."""
 
     def __init__(self) -> None:
-        self._font: pygame.font.Font | None = None
-        self._size = 0
+        self._fonts: dict[int, pygame.font.Font] = {}
 
     def font(self, size: int) -> pygame.font.Font:
-        if self._font is None or self._size != size:
+        font = self._fonts.get(size)
+        if font is None:
             pygame.font.init()
-            self._font = pygame.font.SysFont("monospace", size) or pygame.font.Font(None, size)
-            self._size = size
-        return self._font
+            font = self._fonts[size] = (pygame.font.SysFont("monospace", size)
+                                        or pygame.font.Font(None, size))
+        return font
 
     def draw(self, target: pygame.Surface, area: pygame.Rect, control: LabControl,
              scale: float) -> None:
+        """The panel in `area`, its text as large as the scale asks and small enough for
+        every line to fit, across and down."""
         target.fill(PANEL_BACKGROUND, area)
+        lines = panel_lines(control)
+        widest = max((text for text, _ in lines), key=len)
         size = max(PANEL_TEXT_PX, round(4.2 * scale))
-        font = self.font(size)
-        pad = max(4, size // 2)
+        while True:
+            font = self.font(size)
+            pad = max(4, size // 2)
+            if size <= MIN_TEXT_PX or (font.get_linesize() * len(lines) + 2 * pad <= area.h
+                                       and font.size(widest)[0] + 2 * pad <= area.w):
+                break
+            size -= 1
         y = area.y + pad
-        for text, colour in panel_lines(control):
-            if text:
-                target.blit(font.render(text, True, colour), (area.x + pad, y))
+        for text, colour in lines:
+            target.blit(font.render(text, True, colour), (area.x + pad, y))
             y += font.get_linesize()
 
 

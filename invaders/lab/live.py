@@ -225,6 +225,7 @@ class LabDetector:
         self.shadow = LiveShadow(rules) if shadow else None
         self.clock = clock
         self.stats = CollisionStats()
+        self.history: deque[CollisionStats] = deque(maxlen=SECOND)  # every tick's counters
         self.seconds: deque[float] = deque(maxlen=SECOND)  # per tick, a look spread over k
         self.reference_seconds: deque[float] = deque(maxlen=SECOND)
         self.reference: tuple[Detector, FrameScene] | None = None
@@ -251,6 +252,7 @@ class LabDetector:
             self._time_reference(store, clock)
         if sampler is None or sampler.due(tick):
             self.stats = stats
+        self.history.append(stats)
         shadow = self.shadow
         if shadow is not None:
             shadow.truth(store)
@@ -267,6 +269,12 @@ class LabDetector:
         started = clock()
         detector.detect(scene.store)
         self.reference_seconds.append(clock() - started)
+
+    def counter_medians(self) -> CollisionStats:
+        """Each counter's median over the last second of ticks."""
+        if not self.history:
+            return CollisionStats()
+        return CollisionStats(*(median(column) for column in zip(*self.history, strict=True)))
 
     def timings(self) -> tuple[float, float, float | None]:
         """The last tick's detection time, the median over the last second (seconds), and
