@@ -166,7 +166,9 @@ class Detector:
         self.observers: list[DetectionObserver] = []
         self._table = tuple((rule, rule.a, rule.b, None if rule.zone is None
                              else ZoneIndex(rule.zone)) for rule in rules)
-        self._plans: dict[int, tuple] = {}  # kinds present (bit mask) -> entries that apply
+        self._plans: dict[int, tuple] = {}  # kinds present (bit mask) -> groups that apply
+        self._planned_for: BodyStore | None = None
+        self._zones = {id(rule): zone for rule, _, _, zone in self._table if zone is not None}
         # A broad phase that finds the bodies in a zone faster than testing each.
         self._in_zone = getattr(broadphase, "in_zone", None)
 
@@ -182,32 +184,21 @@ class Detector:
         if observers:
             for observer in reversed(observers):
                 observer.before(store)
-        by_kind = store.by_kind
         tick = store.tick
         n = store.size
-        present = store.present
-        plan = self._plans.get(present)
+        if store is not self._planned_for:  # plans hold a store's own lists of bodies
+            self._plans.clear()
+            self._planned_for = store
+        plan = self._plans.get(store.present)
         if plan is None:
-            plan = self._plans[present] = tuple(
-                entry for entry in self._table
-                if present >> entry[1] & 1 and present >> entry[2] & 1)
-        groups: list[Group] = []
+            plan = self._plans[store.present] = self._plan(store)
+        groups, zoned = plan
         allowed = 0
-        in_zone = self._in_zone
-        for rule, kind_a, kind_b, zone in plan:
-            side_a: Sequence[Body] = by_kind[kind_a]
-            side_b: Sequence[Body] = by_kind[kind_b]
-            if zone is not None:
-                if in_zone is not None:
-                    side_a = in_zone(store, kind_a, zone, self.kinds)
-                    side_b = in_zone(store, kind_b, zone, self.kinds) if side_a else ()
-                else:
-                    side_a = [body for body in side_a if zone.holds(body, tick)]
-                    side_b = [body for body in side_b if zone.holds(body, tick)]
-                if not side_a or not side_b:
-                    continue
+        for _, side_a, side_b in groups:
             allowed += len(side_a) * len(side_b)
-            groups.append((rule, side_a, side_b))
+        if zoned:
+            groups = self._with_zones(store, groups, zoned)
+            allowed = sum(len(side_a) * len(side_b) for _, side_a, side_b in groups)
         pairs = broadphase.pairs(store, groups, self.kinds) if groups else []
 
         quick = self.quick
@@ -256,6 +247,44 @@ class Detector:
             for observer in observers:
                 observer.after(store, pairs, contacts, stats)
         return contacts, stats
+
+    def _plan(self, store: BodyStore) -> tuple[list[Group], list[tuple[int, PairRule]]]:
+        """For the kinds the store has now: the groups of the entries without a zone (the
+        store's own lists, the same every tick) and, by place in the table, the entries
+        with one (filtered every tick)."""
+        by_kind = store.by_kind
+        present = store.present
+        groups: list[Group] = []
+        zoned: list[tuple[int, PairRule]] = []
+        for rule, kind_a, kind_b, zone in self._table:
+            if present >> kind_a & 1 and present >> kind_b & 1:
+                if zone is None:
+                    groups.append((rule, by_kind[kind_a], by_kind[kind_b]))
+                else:
+                    zoned.append((len(groups) + len(zoned), rule))
+        return groups, zoned
+
+    def _with_zones(self, store: BodyStore, fixed: list[Group],
+                    zoned: list[tuple[int, PairRule]]) -> list[Group]:
+        """The tick's groups in table order: the fixed ones, and each zoned entry with the
+        bodies of its sides inside its zone (left out if a side has none)."""
+        groups = list(fixed)
+        tick = store.tick
+        in_zone = self._in_zone
+        skipped = 0  # zoned entries left out before this one
+        for place, rule in zoned:
+            zone = self._zones[id(rule)]
+            if in_zone is not None:
+                side_a = in_zone(store, rule.a, zone, self.kinds)
+                side_b = in_zone(store, rule.b, zone, self.kinds) if side_a else ()
+            else:
+                side_a = [b for b in store.by_kind[rule.a] if zone.holds(b, tick)]
+                side_b = [b for b in store.by_kind[rule.b] if zone.holds(b, tick)]
+            if side_a and side_b:
+                groups.insert(place - skipped, (rule, side_a, side_b))
+            else:
+                skipped += 1
+        return groups
 
     def _walk(self, a: Body, b: Body, rule: PairRule, tick: int,
               landed: bool) -> tuple[bool, Contact | None]:
