@@ -52,7 +52,7 @@ def test_substeps_are_one_pixel_apart_and_include_both_ends():
     assert len(steps) == 8
     for (x0, y0), (x1, y1) in itertools.pairwise(steps):
         assert abs(x1 - x0) <= 1 and abs(y1 - y0) == 1
-    assert predicates.substeps(0, 0) == [(0, 0)]
+    assert predicates.substeps(0, 0) == ((0, 0),)
 
 
 def test_swept_contact_is_the_first_substep_that_touches():

@@ -8,7 +8,7 @@ Every pixel test here goes through `mask_offset`, so the convention is pinned in
 
 from __future__ import annotations
 
-from functools import cache
+from functools import cache, lru_cache
 
 import pygame
 
@@ -41,16 +41,18 @@ def masks_overlap(
     return ax + hit[0], ay + hit[1]
 
 
-def substeps(dx: int, dy: int) -> list[Point]:
+@lru_cache(maxsize=4096)
+def substeps(dx: int, dy: int) -> tuple[Point, ...]:
     """Integer points from (0, 0) to (dx, dy), one pixel apart along the major axis.
 
     This is the motion model of every swept test and of the oracle: between consecutive
-    points nothing moves more than one pixel on either axis.
+    points nothing moves more than one pixel on either axis. (Kept per motion: a scene has
+    few distinct ones, and the walk asks for them on every swept test.)
     """
     n = max(abs(dx), abs(dy))
     if n == 0:
-        return [(0, 0)]
-    return [(round_div(i * dx, n), round_div(i * dy, n)) for i in range(n + 1)]
+        return ((0, 0),)
+    return tuple((round_div(i * dx, n), round_div(i * dy, n)) for i in range(n + 1))
 
 
 def round_div(num: int, den: int) -> int:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from fractions import Fraction
+from functools import lru_cache
 from typing import NamedTuple
 
 
@@ -31,6 +32,7 @@ START = Fraction(0)  # the tick's first instant
 END = Fraction(1)  # its last: where things land
 
 
+@lru_cache(maxsize=4096)  # a Fraction is immutable; making one reduces it, which costs
 def impact_time(step: int, steps: int) -> Fraction:
     """The time of substep `step` of `steps` within the tick, in the one time base of every
     contact: 0 is the tick's first instant, 1 its last."""
