@@ -7,9 +7,12 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+from hypothesis import given
+from hypothesis import strategies as st
+
 from invaders.engine.response import first_contacts
 from invaders.engine.rules import PairRule
-from invaders.engine.stats import Contact
+from invaders.engine.stats import Contact, contact_order
 from invaders.game.actions import Action
 from invaders.game.entities import BOMB_MASKS, Bomb, BombType, Shot
 from invaders.game.events import Event
@@ -198,3 +201,13 @@ def test_every_contact_time_is_an_exact_fraction_of_the_tick():
             times.add(contact.time)
     assert len(times) > 3  # not all at the tick's end
 
+
+
+@given(st.lists(st.tuples(st.integers(1, 2**20), st.integers(0, 2**20)), min_size=2,
+                max_size=40))
+def test_contacts_sort_by_time_as_the_fractions_order_them(times):
+    contacts = [Contact(0, Fraction(min(step, steps), steps), i % 3, i % 3 + 1, 0, 0, 0, 0,
+                        0, 0, 0, 0, None) for i, (steps, step) in enumerate(times)]
+    by_float = sorted(contacts, key=contact_order)
+    exact = sorted(contacts, key=lambda c: (c.time, c.a_id, c.b_id))
+    assert by_float == exact
