@@ -187,6 +187,7 @@ class LiveShadow:
         return self.scorer.finish()
 
     def truth(self, store: BodyStore) -> None:
+        """This tick's true contacts, from the oracle on the world's own bodies."""
         tick = store.tick
         pairs = set()
         for contact in true_contacts(store, self.rules):
@@ -198,6 +199,7 @@ class LiveShadow:
         self.scorer.truth(tick, pairs)
 
     def reported(self, start: int, end: int, contacts: list[Contact]) -> None:
+        """What the method found over ticks start+1..end; marks for what is now judged."""
         happened = first_contacts(contacts)
         false_at = {(c.a_id, c.b_id): (c.px, c.py) for c in happened}
         self.scorer.reported(start, end, ((c.a_id, c.b_id) for c in happened))
@@ -234,6 +236,8 @@ class LabDetector:
             self.reference = default, FrameScene()
 
     def detect(self, store: BodyStore) -> tuple[list[Contact], CollisionStats]:
+        """The chosen method's contacts (none on a tick a sampled method does not look),
+        scored in shadow and timed when it was asked to be."""
         tick = store.tick
         clock = self.clock
         started = clock() if clock is not None else 0.0
