@@ -178,15 +178,22 @@ class Autopilot:
         if ship is not None:
             lead = ship.dx * SHOT_TICKS_TO_LANE // 3
             return ship.x + 12 + lead
-        best = None
+        # The first alien, in column order, that is least (not under a shield, lowest, then
+        # nearest the cannon): the comparison written out, as the tuples cost more.
         lit = frozenset() if self._through_shields else self._shields.lit(world)
         centre = world.cannon.x + 8
+        best_x = None
+        best_blocked, best_y, best_dist = True, 0, 0
         for alien in targets:
             x = alien.x + 8
-            key = (x in lit, -alien.top, abs(x - centre))
-            if best is None or key < best[0]:
-                best = (key, x)
-        return None if best is None else best[1]
+            blocked = x in lit
+            y = alien.y  # the lowest has the largest y (its picture's top is y + 8)
+            dist = abs(x - centre)
+            if best_x is None or (not blocked and best_blocked) or (
+                    blocked == best_blocked and (y > best_y or (y == best_y
+                                                                and dist < best_dist))):
+                best_x, best_blocked, best_y, best_dist = x, blocked, y, dist
+        return best_x
 
     def _approach(self, world: World, centre: int) -> int:
         target = self._target_x(world)
