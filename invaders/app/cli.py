@@ -11,7 +11,7 @@ from typing import NoReturn
 from invaders import __version__
 from invaders.engine.detector import BROADPHASES
 from invaders.engine.grid import DEFAULT_CELL
-from invaders.lab.autopilot import STYLES
+from invaders.lab.styles import STYLES
 
 MAX_TICKS = 100_000_000
 

@@ -13,6 +13,7 @@ import random
 from invaders.game.actions import Action
 from invaders.game.entities import CannonState
 from invaders.game.world import Phase, World
+from invaders.lab.styles import STYLES
 
 DODGE_LOOKAHEAD_TICKS = 45  # bombs further than this from the cannon's rows are ignored
 CANNON_LIT = (2, 14)  # first and last lit column of the cannon's 16-px box
@@ -25,14 +26,6 @@ LEFT, RIGHT, FIRE, START = (int(Action.LEFT), int(Action.RIGHT), int(Action.FIRE
                             int(Action.START))
 
 
-STYLES = {
-    # name: (chance to notice a bomb, rack columns it shoots at: all, the middle one (which
-    # a defender clears, then hides under) or none, keeps the 300 shot for saucers)
-    "hunter": (0.85, "all", False),
-    "expert": (0.98, "all", True),
-    "defender": (0.995, "middle", False),
-    "pacifist": (0.995, "none", False),
-}
 
 
 def corridor(world: World) -> int:
