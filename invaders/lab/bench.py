@@ -274,6 +274,10 @@ def big_scenes(rounds: int, goal) -> None:
             ratio = figures.ratios("grid", name)
             print(f"   {label:<44}{figures.median(name):>9.2f} ms  "
                   f"{figures.spread(name, '.2f')}   grid/this {statistics.median(ratio):.2f}x")
+        if "pymunk" in figures.values:
+            ratio = figures.ratios("pymunk", "numpy")
+            print(f"   {'numpy against pymunk':<44}{statistics.median(ratio):>8.2f}x faster  "
+                  f"({min(ratio):.2f}..{max(ratio):.2f})")
         if n == max(BIG_SIZES):
             goal(f"numpy >= {BIG_GOALS['numpy/grid']:.0f}x faster than the grid at {n:,}",
                  figures.ratios("grid", "numpy"), BIG_GOALS["numpy/grid"], same)
