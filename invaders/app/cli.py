@@ -11,6 +11,7 @@ from typing import NoReturn
 from invaders import __version__
 from invaders.engine.detector import BROADPHASES
 from invaders.engine.grid import DEFAULT_CELL
+from invaders.lab import choices
 from invaders.lab.styles import STYLES
 
 MAX_TICKS = 100_000_000
@@ -46,18 +47,25 @@ def _lab_arguments(parser: argparse.ArgumentParser) -> argparse._ArgumentGroup:
     """The lab's choices, the same for a window and a headless run."""
     lab = parser.add_argument_group("the lab", "detect another way than the default, and "
                                     "see what that costs and misses")
-    lab.add_argument("--quick", choices=("rect", "circle"), default="rect",
+    lab.add_argument("--quick", choices=choices.QUICK_TESTS, default=choices.QUICK_TESTS[0],
                      help="the quick test: boxes, or bounding circles")
-    lab.add_argument("--thorough", choices=("mask", "none"), default="mask",
+    lab.add_argument("--thorough", choices=choices.THOROUGH_TESTS,
+                     default=choices.THOROUGH_TESTS[0],
                      help="the thorough test: pixel masks, or none (boxes are the shapes)")
-    lab.add_argument("--motion", choices=("auto", "discrete", "swept"), default="auto",
+    lab.add_argument("--motion", choices=choices.MOTIONS, default=choices.MOTIONS[0],
                      help="per entry as proven (auto), every entry discrete, or swept")
-    lab.add_argument("--sample", type=int, choices=(1, 2, 4, 8), default=1, metavar="K",
-                     help="detect every K-th tick only (1, 2, 4 or 8)")
-    lab.add_argument("--speed-mult", type=int, choices=(1, 2, 4, 8, 16), default=1,
-                     metavar="N", help="the shot and bombs move N times as far a tick "
-                     "(1, 2, 4, 8 or 16)")
+    lab.add_argument("--sample", type=int, choices=choices.SAMPLINGS,
+                     default=choices.SAMPLINGS[0], metavar="K",
+                     help="detect every K-th tick only (" + _listed(choices.SAMPLINGS) + ")")
+    lab.add_argument("--speed-mult", type=int, choices=choices.MULTIPLIERS,
+                     default=choices.MULTIPLIERS[0], metavar="N",
+                     help="the shot and bombs move N times as far a tick ("
+                          + _listed(choices.MULTIPLIERS) + ")")
     return lab
+
+
+def _listed(options: Sequence[int]) -> str:
+    return ", ".join(map(str, options[:-1])) + f" or {options[-1]}"
 
 
 def build_parser() -> Parser:
@@ -207,8 +215,8 @@ def cmd_run(args: argparse.Namespace) -> int:
 def _lab_asked(args: argparse.Namespace) -> bool:
     """Whether the lab options ask for another method or speed than the game's own (told
     without importing the lab, which a plain run does not need)."""
-    return (args.quick, args.thorough, args.motion, args.sample, args.speed_mult) != (
-        "rect", "mask", "auto", 1, 1)
+    return ((args.quick, args.thorough, args.motion, args.sample) != choices.DEFAULT_NARROW
+            or args.speed_mult != choices.MULTIPLIERS[0])
 
 
 def _lab_choice(args: argparse.Namespace):

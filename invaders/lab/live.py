@@ -28,17 +28,26 @@ from invaders.engine.stats import CollisionStats, Contact
 from invaders.engine.store import BodyStore
 from invaders.game.config import GameConfig
 from invaders.game.world import World
+from invaders.lab.choices import (
+    BROADS,
+    CELLS,
+    MOTIONS,
+    MULTIPLIERS,
+    QUICK_TESTS,
+    SAMPLINGS,
+    THOROUGH_TESTS,
+)
 from invaders.lab.frames import Frame, FrameScene, snapshot
-from invaders.lab.matrix import CELLS, MULTIPLIERS, SAMPLINGS, Method, detector_for
+from invaders.lab.matrix import Method, detector_for
 from invaders.lab.oracle import true_contacts
 from invaders.lab.score import Judged, Score, Scorer
 
 OPTIONS: dict[str, tuple] = {
-    "broad": ("grid", "brute", "sweep", "numpy"),
+    "broad": BROADS,
     "cell": CELLS,
-    "quick": ("rect", "circle"),
-    "thorough": ("mask", "none"),
-    "motion": ("auto", "discrete", "swept"),
+    "quick": QUICK_TESTS,
+    "thorough": THOROUGH_TESTS,
+    "motion": MOTIONS,
     "sampling": SAMPLINGS,
     "speed": MULTIPLIERS,
 }
@@ -51,13 +60,13 @@ SECOND = 60  # ticks in the rolling window of the timings
 class Choice:
     """One way to detect collisions in the game, and how fast its projectiles fly."""
 
-    broad: str = "grid"
+    broad: str = BROADS[0]
     cell: int = DEFAULT_CELL
-    quick: str = "rect"
-    thorough: str = "mask"
-    motion: str = "auto"
-    sampling: int = 1
-    speed: int = 1
+    quick: str = QUICK_TESTS[0]
+    thorough: str = THOROUGH_TESTS[0]
+    motion: str = MOTIONS[0]
+    sampling: int = SAMPLINGS[0]
+    speed: int = MULTIPLIERS[0]
 
     @property
     def method(self) -> Method:

@@ -19,11 +19,8 @@ from invaders.engine.rules import Motion, RuleTable, Shape
 from invaders.game.config import DEFAULT_CONFIG, GameConfig
 from invaders.game.rules import make_rules
 from invaders.game.tuning import cheapest_rules
+from invaders.lab.choices import CELLS, DEFAULT_NARROW, SAMPLINGS
 from invaders.lab.methods import QUICK_TESTS
-
-CELLS = (4, 8, 16, 32, 64, 128)
-SAMPLINGS = (1, 2, 4, 8)
-MULTIPLIERS = (1, 2, 4, 8, 16)
 
 
 @dataclass(frozen=True)
@@ -45,7 +42,6 @@ class Method:
         return (self.quick, self.thorough, self.motion, self.sampling) == DEFAULT_NARROW
 
 
-DEFAULT_NARROW = ("rect", "mask", "auto", 1)
 DEFAULT = Method()
 
 

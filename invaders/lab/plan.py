@@ -18,7 +18,8 @@ from pathlib import Path
 
 from invaders.atomic import write_atomic
 from invaders.engine.grid import DEFAULT_CELL
-from invaders.lab.matrix import MULTIPLIERS, Method, accuracy_matrix, broad_matrix
+from invaders.lab.choices import MULTIPLIERS
+from invaders.lab.matrix import Method, accuracy_matrix, broad_matrix
 from invaders.lab.runner import SceneSpec, run_scene
 
 BRUTE_LIMIT = 1000  # bodies: above this, brute force would take minutes a tick

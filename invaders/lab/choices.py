@@ -1,0 +1,13 @@
+"""The lab's choices and their options, the first of each the game's own: one list the
+method matrix, the live lab and the command line share (light enough for the command line
+to offer them without loading the lab)."""
+
+BROADS = ("grid", "brute", "sweep", "numpy")
+CELLS = (4, 8, 16, 32, 64, 128)
+QUICK_TESTS = ("rect", "circle")
+THOROUGH_TESTS = ("mask", "none")
+MOTIONS = ("auto", "discrete", "swept")  # auto: per entry, as proven exact
+SAMPLINGS = (1, 2, 4, 8)  # detect every n-th tick
+MULTIPLIERS = (1, 2, 4, 8, 16)  # projectile speed
+
+DEFAULT_NARROW = (QUICK_TESTS[0], THOROUGH_TESTS[0], MOTIONS[0], SAMPLINGS[0])
