@@ -82,7 +82,7 @@ class Adaptive:
         in_zone = getattr(self.active, "in_zone", None)
         if in_zone is not None:
             return in_zone(scene, kind, zone, kinds)
-        return [body for body in scene.by_kind[kind] if zone.holds(body, scene.tick)]
+        return _tested_in_zone(scene, kind, zone, kinds)
 
     def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> list[Pair]:
         self._choose(scene, kinds)
@@ -135,6 +135,10 @@ class ZoneIndex:
                 for cx in range(zx // c, (zx + zw - 1) // c + 1):
                     self.cells.setdefault((cx, cy), []).append((zx, zy, zx + zw, zy + zh))
 
+    def within(self, bodies: Sequence[Body], tick: int) -> list[Body]:
+        """Those of the bodies whose box over the tick meets the zone, in their order."""
+        return [body for body in bodies if self.holds(body, tick)]
+
     def holds(self, body: Body, tick: int) -> bool:
         """Whether the body's box over the whole tick meets the zone: a body that crosses
         it within one tick is in it."""
@@ -169,8 +173,8 @@ class Detector:
         self._plans: dict[int, tuple] = {}  # kinds present (bit mask) -> groups that apply
         self._planned_for: BodyStore | None = None
         self._zones = {id(rule): zone for rule, _, _, zone in self._table if zone is not None}
-        # A broad phase that finds the bodies in a zone faster than testing each.
-        self._in_zone = getattr(broadphase, "in_zone", None)
+        # A broad phase may find the bodies in a zone faster than testing each one.
+        self._in_zone = getattr(broadphase, "in_zone", None) or _tested_in_zone
 
     def detect(self, store: BodyStore) -> tuple[list[Contact], CollisionStats]:
         """This tick's contacts in (time, low id, high id) order, and the counters."""
@@ -193,19 +197,12 @@ class Detector:
         if plan is None:
             plan = self._plans[store.present] = self._plan(store)
         groups, zoned = plan
+        if zoned:
+            groups = self._with_zones(store, groups, zoned)
         allowed = 0
         for _, side_a, side_b in groups:
             allowed += len(side_a) * len(side_b)
-        if zoned:
-            groups = self._with_zones(store, groups, zoned)
-            allowed = sum(len(side_a) * len(side_b) for _, side_a, side_b in groups)
         pairs = broadphase.pairs(store, groups, self.kinds) if groups else []
-        if not pairs:  # the common tick at game scale: nothing to test
-            stats = CollisionStats(n, n * (n - 1) // 2, allowed, 0, 0, 0, 0, 0, 0, 0)
-            if observers:
-                for observer in observers:
-                    observer.after(store, pairs, [], stats)
-            return [], stats
 
         quick = self.quick
         contacts: list[Contact] = []
@@ -275,17 +272,12 @@ class Detector:
         """The tick's groups in table order: the fixed ones, and each zoned entry with the
         bodies of its sides inside its zone (left out if a side has none)."""
         groups = list(fixed)
-        tick = store.tick
         in_zone = self._in_zone
         skipped = 0  # zoned entries left out before this one
         for place, rule in zoned:
             zone = self._zones[id(rule)]
-            if in_zone is not None:
-                side_a = in_zone(store, rule.a, zone, self.kinds)
-                side_b = in_zone(store, rule.b, zone, self.kinds) if side_a else ()
-            else:
-                side_a = [b for b in store.by_kind[rule.a] if zone.holds(b, tick)]
-                side_b = [b for b in store.by_kind[rule.b] if zone.holds(b, tick)]
+            side_a = in_zone(store, rule.a, zone, self.kinds)
+            side_b = in_zone(store, rule.b, zone, self.kinds) if side_a else ()
             if side_a and side_b:
                 groups.insert(place - skipped, (rule, side_a, side_b))
             else:
@@ -333,6 +325,11 @@ class Detector:
         ax, ay = bx - ox + sx, by - oy + sy
         return True, Contact(tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
                              ax, ay, bx, by, bx + hx, by + hy, rule)
+
+
+def _tested_in_zone(scene: Scene, kind: int, zone: ZoneIndex, kinds: KindSets) -> list[Body]:
+    """The bodies of a kind in a zone, each tested (for broad phases with no faster way)."""
+    return zone.within(scene.by_kind[kind], scene.tick)
 
 
 def _xywh(body: Body, tick: int, rule: PairRule) -> tuple[int, int, int, int]:

@@ -55,17 +55,12 @@ class Grid:
                 self._update(body, is_swept, scene.tick)
 
     def _drain(self, tick: int, kinds: KindSets) -> None:
-        """Apply the move buffer: what was added, moved, reshaped or removed (a body whose
-        cells did not change costs one range worked out and compared)."""
+        """Apply the move buffer: what was added, moved, reshaped or removed."""
         swept, probed = kinds
-        ranges = self.ranges
-        cell_range = self.cell_range
+        update = self._update
         for body in self.move_buffer:
-            kind = body.kind
-            if kind in probed:
-                if body.alive and ranges.get(body.id) == cell_range(body, kind in swept, tick):
-                    continue
-                self._update(body, kind in swept, tick)
+            if body.kind in probed:
+                update(body, body.kind in swept, tick)
         self.move_buffer.clear()
 
     def cell_range(self, body: Body, is_swept: bool, tick: int) -> CellRange:
