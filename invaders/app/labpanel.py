@@ -14,6 +14,7 @@ from collections.abc import Callable
 import pygame
 
 from invaders.app.recording import Recorder
+from invaders.app.render import View
 from invaders.game.config import GameConfig
 from invaders.game.world import World
 from invaders.lab.live import DEFAULT_CHOICE, MARK_TICKS, Choice, LabDetector, install
@@ -166,18 +167,18 @@ class PanelPainter:
             y += font.get_linesize()
 
 
-def draw_marks(target: pygame.Surface, to_window: Callable[[float, float], tuple[int, int]],
-               scale: float, control: LabControl) -> None:
+def draw_marks(target: pygame.Surface, view: View, control: LabControl) -> None:
     """A ring where each error the shadow found should have happened, fading as it ages."""
     shadow = control.detector.shadow
     if shadow is None:
         return
     now = control.world.tick
-    radius = max(4, round(5 * scale))
-    width = max(2, round(scale))
+    radius = max(4, round(5 * view.scale))
+    width = max(2, round(view.scale))
     for mark in shadow.marks:
         left = 1 - (now - mark.tick) / MARK_TICKS
         if left <= 0:
             continue
         colour = tuple(round(c * left) for c in MARK_COLOURS[mark.outcome])
-        pygame.draw.circle(target, colour, to_window(mark.x + 0.5, mark.y + 0.5), radius, width)
+        pygame.draw.circle(target, colour, view.to_window(mark.x + 0.5, mark.y + 0.5), radius,
+                           width)

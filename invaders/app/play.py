@@ -20,7 +20,7 @@ from invaders.app.labpanel import LabControl, PanelPainter, draw_marks, panel_wi
 from invaders.app.loop import FixedStepLoop
 from invaders.app.outputs import writing
 from invaders.app.recording import Recorder
-from invaders.app.render import CandidateWatch, Renderer, View
+from invaders.app.render import CandidateWatch, Renderer
 from invaders.app.signals import StopSignals
 from invaders.app.sound import SoundBoard
 from invaders.atomic import atomic_writer
@@ -224,10 +224,9 @@ class Session:
             width = panel_width(scale)
             play = pygame.Rect(0, 0, max(1, w - width), h)
             field = target.subsurface(play)
-            self.renderer.draw(field, self.world, alpha, self.overlay, self.report,
-                               self.watch.pairs, self.paused, self.replay_verdict())
-            view = View.of(play.size)
-            draw_marks(field, view.to_window, view.scale, self.lab)
+            view = self.renderer.draw(field, self.world, alpha, self.overlay, self.report,
+                                      self.watch.pairs, self.paused, self.replay_verdict())
+            draw_marks(field, view, self.lab)
             self.painter.draw(target, pygame.Rect(play.right, 0, w - play.right, h), self.lab,
                               scale)
             return

@@ -81,9 +81,10 @@ class Renderer:
     def draw(self, target: pygame.Surface, world: World, alpha: float = 0.0,
              overlay: bool = False, report: TickReport | None = None,
              pairs: Sequence[tuple[int, int]] = (), paused: bool = False,
-             replay_verdict: str | None = None) -> None:
+             replay_verdict: str | None = None) -> View:
         """Paint the world (movers interpolated by `alpha` of a tick) onto `target`; with
-        `overlay`, the last tick's cells, candidate `pairs` and counters over it."""
+        `overlay`, the last tick's cells, candidate `pairs` and counters over it. Returns
+        where the screen sits in the target, for whatever is drawn over it."""
         screen = self.screen
         screen.fill(BACKGROUND)
         self._draw_hud(world)
@@ -99,6 +100,7 @@ class Renderer:
         view = self._present(target)
         if overlay:
             self._draw_overlay(target, view, world, report, pairs)
+        return view
 
     def draw_card(self, target: pygame.Surface, world: World, texts: list[tuple[str, int, int]],
                   pictures: list[tuple[art.Art, int, int]]) -> None:

@@ -248,30 +248,27 @@ class LabDetector:
         """The chosen method's contacts (none on a tick a sampled method does not look),
         scored in shadow and timed when it was asked to be."""
         tick = store.tick
+        k = self.choice.sampling
+        looks = self.sampler is None or self.sampler.due(tick)
         clock = self.clock
         started = clock() if clock is not None else 0.0
-        sampler = self.sampler
-        if sampler is None:
-            contacts, stats = self.inner.detect(store)
-        elif sampler.due(tick):
-            contacts, stats = self.inner.detect(sampler.view(store))
-        else:
+        if not looks:
             contacts, stats = [], CollisionStats()
+        elif self.sampler is None:
+            contacts, stats = self.inner.detect(store)
+        else:
+            contacts, stats = self.inner.detect(self.sampler.view(store))
         if clock is not None:
-            spent = clock() - started
-            k = self.choice.sampling
-            if sampler is None or sampler.due(tick):
-                self.seconds.extend([spent / k] * k)
+            if looks:
+                self.seconds.extend([(clock() - started) / k] * k)
             self._time_reference(store, clock)
-        if sampler is None or sampler.due(tick):
+        if looks:
             self.stats = stats
         self.history.append(stats)
-        shadow = self.shadow
-        if shadow is not None:
-            shadow.truth(store)
-            if sampler is None or sampler.due(tick):
-                k = self.choice.sampling
-                shadow.reported(tick - k, tick, contacts)
+        if self.shadow is not None:
+            self.shadow.truth(store)
+            if looks:
+                self.shadow.reported(tick - k, tick, contacts)
         return contacts, stats
 
     def _time_reference(self, store: BodyStore, clock: Callable[[], float]) -> None:
