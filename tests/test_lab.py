@@ -228,3 +228,16 @@ def test_the_panel_shows_each_counter_last_and_as_its_median_over_a_second():
     assert detector.counter_medians().objects == statistics.median(objects[-60:])
     line = next(text for text, _ in panel_lines(session.lab) if text.startswith("objects"))
     assert line.split()[1:] == [str(objects[-1]), f"{statistics.median(objects[-60:]):g}"]
+
+
+def test_watching_and_timing_the_default_method_changes_nothing_in_the_game():
+    import time
+
+    plain, watched = World(seed=5), World(seed=5)
+    detector = install(watched, Choice(), watched.config, shadow=True, clock=time.perf_counter)
+    pilots = Autopilot(5), Autopilot(5)
+    for _ in range(1500):
+        for world, pilot in zip((plain, watched), pilots, strict=True):
+            world.step(pilot.actions(world))
+    assert detector.shadow.score.true > 0 and detector.timings()[1] > 0
+    assert watched.state_hash() == plain.state_hash()
