@@ -35,7 +35,7 @@ from invaders.game.replay import Checkpoint, Replay
 from invaders.game.replay import run as run_replay
 from invaders.game.world import Phase, World
 from invaders.lab.autopilot import Autopilot
-from invaders.lab.frames import Frame, FrameScene, play_frames
+from invaders.lab.frames import Frame, play_frames
 from invaders.lab.references import (
     GAME_RULES,
     groupcollide_frames,
@@ -212,20 +212,9 @@ BIG_GOALS = {"numpy/grid": 3.0, "numpy/pymunk": 3.0, "auto/grid at 1000": 0.95}
 def steady_seconds(broadphase: str, frames: list[Frame], rules) -> tuple[float, list]:
     """Seconds our detector spends on the frames after the first (which builds its
     state untimed, as pymunk's first frame is), and the contacts of each."""
-    scene = FrameScene()
-    detector = Detector(make_broadphase(broadphase), rules)
-    scene.load(frames[0])
-    detector.detect(scene.store)
-    seconds = 0.0
-    found = []
-    with no_gc():
-        for frame in frames[1:]:
-            scene.load(frame)
-            start = time.perf_counter()
-            contacts, _ = detector.detect(scene.store)
-            seconds += time.perf_counter() - start
-            found.append([(c.a_id, c.b_id, c.time) for c in contacts])
-    return seconds, found
+    seconds, found, _ = play_frames(Detector(make_broadphase(broadphase), rules), frames,
+                                    untimed=1)
+    return seconds, [[(c.a_id, c.b_id, c.time) for c in contacts] for contacts in found]
 
 
 def big_scenes(rounds: int, goal) -> None:
