@@ -72,28 +72,37 @@ class FrameScene:
             store.remove(by_id[body_id])
 
 
+Places = dict[int, tuple[int, int]]  # body id -> where it was
+
+
+def folded(frame: Frame, previous: Places, tick: int) -> tuple[Frame, Places]:
+    """The frame as tick `tick` of a detector that looked last when the bodies were at
+    `previous`: each moves in one step from there (or from where it appeared, if later).
+    Also where they are now, for the next look."""
+    bodies = {}
+    seen: Places = {}
+    for kind, rows in frame.bodies.items():
+        new_rows = []
+        for body_id, x, y, px, py, moved, mask in rows:
+            start = previous.get(body_id)
+            if start is None:  # appeared since the last look: from its own start
+                start = (px, py) if moved == frame.tick else (x, y)
+            new_rows.append((body_id, x, y, *start, tick if start != (x, y) else -1, mask))
+            seen[body_id] = (x, y)
+        bodies[kind] = new_rows
+    return Frame(tick, bodies, []), seen
+
+
 def sampled(frames: Sequence[Frame], k: int) -> list[Frame]:
     """Every k-th frame, renumbered, each body moving in one step from where it was k frames
     before (or from where it appeared, if that was later)."""
     if k == 1:
         return list(frames)
     out = []
-    previous: dict[int, tuple[int, int]] = {}
+    previous: Places = {}
     for n, frame in enumerate(frames[k - 1::k]):
-        bodies = {}
-        seen: dict[int, tuple[int, int]] = {}
-        for kind, rows in frame.bodies.items():
-            new_rows = []
-            for body_id, x, y, px, py, moved, mask in rows:
-                start = previous.get(body_id)
-                if start is None:  # appeared since the last sample: from its own start
-                    start = (px, py) if moved == frame.tick else (x, y)
-                moved_now = n if start != (x, y) else -1
-                new_rows.append((body_id, x, y, start[0], start[1], moved_now, mask))
-                seen[body_id] = (x, y)
-            bodies[kind] = new_rows
-        previous = seen
-        out.append(Frame(n, bodies, []))
+        look, previous = folded(frame, previous, n)
+        out.append(look)
     return out
 
 

@@ -37,7 +37,7 @@ from invaders.lab.choices import (
     SAMPLINGS,
     THOROUGH_TESTS,
 )
-from invaders.lab.frames import Frame, FrameScene, snapshot
+from invaders.lab.frames import FrameScene, Places, folded, snapshot
 from invaders.lab.matrix import Method, detector_for
 from invaders.lab.oracle import true_contacts
 from invaders.lab.score import Judged, Score, Scorer
@@ -146,26 +146,14 @@ class Sampler:
     def __init__(self, k: int) -> None:
         self.k = k
         self.scene = FrameScene()
-        self.previous: dict[int, tuple[int, int]] = {}
+        self.previous: Places = {}
 
     def due(self, tick: int) -> bool:
         return tick % self.k == self.k - 1
 
     def view(self, store: BodyStore) -> BodyStore:
-        frame = snapshot(store)
-        tick = frame.tick
-        seen: dict[int, tuple[int, int]] = {}
-        for kind, rows in frame.bodies.items():
-            folded = []
-            for body_id, x, y, px, py, moved, mask in rows:
-                start = self.previous.get(body_id)
-                if start is None:  # appeared since the last look: from its own start
-                    start = (px, py) if moved == tick else (x, y)
-                folded.append((body_id, x, y, *start, tick if start != (x, y) else -1, mask))
-                seen[body_id] = (x, y)
-            frame.bodies[kind] = folded
-        self.previous = seen
-        self.scene.load(Frame(tick, frame.bodies, []))
+        look, self.previous = folded(snapshot(store), self.previous, store.tick)
+        self.scene.load(look)
         return self.scene.store
 
 
