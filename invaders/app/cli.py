@@ -205,7 +205,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     if shadow is not None:
         score = shadow.finish()
         rate = f"{score.errors / score.true:.4f}" if score.true else "-"
-        print(f"shadow ({_method_label(args)}): {score.true} true contacts; on time "
+        print(f"shadow ({choice.label}): {score.true} true contacts; on time "
               f"{score.on_time}, late {score.late}, missed {score.missed}, false "
               f"{score.false}; {rate} errors per true contact")
     print(world.state_hash())
@@ -226,12 +226,6 @@ def _lab_choice(args: argparse.Namespace):
 
     return Choice(args.broadphase, getattr(args, "cell", DEFAULT_CELL), args.quick,
                   args.thorough, args.motion, args.sample, args.speed_mult)
-
-
-def _method_label(args: argparse.Namespace) -> str:
-    return (f"{args.quick}/{args.thorough}/{args.motion}"
-            + (f" every {args.sample}" if args.sample > 1 else "")
-            + (f" at {args.speed_mult}x" if args.speed_mult > 1 else ""))
 
 
 def cmd_play(args: argparse.Namespace) -> int:

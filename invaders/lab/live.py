@@ -80,9 +80,10 @@ class Choice:
 
     @property
     def label(self) -> str:
-        broad = f"grid {self.cell}px" if self.broad == "grid" else self.broad
-        every = f", every {self.sampling} ticks" if self.sampling > 1 else ""
-        return f"{broad}, {self.quick}, {self.thorough}, {self.motion}{every}, {self.speed}x"
+        """The narrow-phase method and speed, short: rect/mask/discrete every 2 at 8x."""
+        return (f"{self.quick}/{self.thorough}/{self.motion}"
+                + (f" every {self.sampling}" if self.sampling > 1 else "")
+                + (f" at {self.speed}x" if self.speed > 1 else ""))
 
     def cycled(self, name: str, step: int = 1) -> Choice:
         """The next (or, with -1, previous) option of one choice; sizes (cell, speed) stop
