@@ -33,9 +33,11 @@ from invaders.engine.store import BodyStore
 
 QuickTest = Callable[[tuple[int, int, int, int], tuple[int, int, int, int]], bool]
 BROADPHASES = ("grid", "brute", "sweep", "numpy", "auto")
-# Bodies from which the numpy broad phase beats the grid. Detection per tick on storms
-# (`invaders study`, and timed side by side on a 2-core machine): 1,000 bodies grid 3.8 ms,
-# numpy 4.5; 2,000: 6.5 and 5.8; 3,000: 8.8 and 6.3; 10,000: 48 and 20.
+# Bodies from which the numpy broad phase beats the grid, as measured on storms on a 2-core
+# machine (ms of detection a tick, grid then numpy): `invaders study` (docs/study/
+# scaling.csv) 1,000 bodies 2.7 and 5.3, 3,000 10.7 and 7.1, 10,000 60.9 and 19.1;
+# `invaders bench --big` 1,000 2.21 and 2.58, 10,000 28.3 and 15.0. The crossing lies
+# between 1,000 and 3,000.
 NUMPY_FROM = 2000
 NUMPY_UNTIL = 1500  # below this an automatic choice goes back to the grid (no flapping)
 
