@@ -145,11 +145,18 @@ class GridAgainstBrute(RuleBasedStateMachine):
     def the_grid_bins_exactly_the_live_probed_bodies(self):
         if self.store.listener is not self.grid.broadphase:
             return  # not attached yet: the first detection builds it
-        self.grid.broadphase._drain(self.store.tick, self.grid.kinds)
-        binned = set(self.grid.broadphase.ranges)
+        grid = self.grid.broadphase
+        grid._drain(self.store.tick, self.grid.kinds)
+        binned = [b.id for layer in grid.layers.values() for cell in layer.values()
+                  for b in cell]
         probed = {b.id for kind in self.grid.kinds.probed
                   for b in self.store.by_kind[kind]}
-        assert binned == probed
+        assert set(binned) == probed
+        assert set(grid.ranges) == {b.id for bodies in self.store.by_kind.values()
+                                    for b in bodies}  # ranged: every live body
+        for body_id in set(binned):  # binned in exactly the cells of its range
+            x0, y0, x1, y1 = grid.ranges[body_id]
+            assert binned.count(body_id) == (x1 - x0 + 1) * (y1 - y0 + 1)
 
 
 GridAgainstBrute.TestCase.settings = settings(max_examples=60, stateful_step_count=40,

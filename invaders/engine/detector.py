@@ -174,6 +174,8 @@ class Detector:
                              else ZoneIndex(rule.zone)) for rule in rules)
         self._plans: dict[int, tuple] = {}  # kinds present (bit mask) -> groups that apply
         self._planned_for: BodyStore | None = None
+        self._allowed: tuple[int, int, int] | None = None  # (present, membership, pairs)
+        self._quiet: dict[tuple[int, int], CollisionStats] = {}  # counters of empty ticks
         self._zones = {id(rule): zone for rule, _, _, zone in self._table if zone is not None}
         # A broad phase may find the bodies in a zone faster than testing each one.
         self._in_zone = getattr(broadphase, "in_zone", None) or _tested_in_zone
@@ -195,19 +197,40 @@ class Detector:
         if store is not self._planned_for:  # plans hold a store's own lists of bodies
             self._plans.clear()
             self._planned_for = store
-        plan = self._plans.get(store.present)
+            self._allowed = None
+        present = store.present
+        plan = self._plans.get(present)
         if plan is None:
-            plan = self._plans[store.present] = self._plan(store)
+            plan = self._plans[present] = self._plan(store)
         groups, zoned = plan
+        # Pairs the rules allow in the zone-less groups: they change only when a body comes
+        # or goes, so they are counted again only then.
+        counted = self._allowed
+        if counted is None or counted[0] != present or counted[1] != store.membership:
+            allowed = 0
+            for _, side_a, side_b in groups:
+                allowed += len(side_a) * len(side_b)
+            self._allowed = counted = (present, store.membership, allowed)
+        allowed = counted[2]
         if zoned:
-            groups = self._with_zones(store, groups, zoned)
-        allowed = 0
-        for _, side_a, side_b in groups:
-            allowed += len(side_a) * len(side_b)
+            groups, in_zones = self._with_zones(store, groups, zoned)
+            allowed += in_zones
         pairs = broadphase.pairs(store, groups, self.kinds) if groups else []
+        if not pairs:  # the usual tick at game scale: the same counters as last time
+            contacts: list[Contact] = []
+            stats = self._quiet.get((n, allowed))
+            if stats is None:
+                if len(self._quiet) > 255:
+                    self._quiet.clear()
+                stats = self._quiet[(n, allowed)] = CollisionStats(
+                    n, n * (n - 1) // 2, allowed, 0, 0, 0, 0, 0, 0, 0)
+            if observers:
+                for observer in observers:
+                    observer.after(store, pairs, contacts, stats)
+            return contacts, stats
 
         quick = self.quick
-        contacts: list[Contact] = []
+        contacts = []
         rect_tests = rect_hits = mask_tests = mask_hits = swept_tests = 0
         for a, b, rule in pairs:
             rect_tests += 1
@@ -270,10 +293,13 @@ class Detector:
         return groups, zoned
 
     def _with_zones(self, store: BodyStore, fixed: list[Group],
-                    zoned: list[tuple[int, PairRule]]) -> list[Group]:
+                    zoned: list[tuple[int, PairRule]]) -> tuple[list[Group], int]:
         """The tick's groups in table order: the fixed ones, and each zoned entry with the
-        bodies of its sides inside its zone (left out if a side has none)."""
-        groups = list(fixed)
+        bodies of its sides inside its zone (left out if a side has none); and the pairs
+        those zoned groups allow. With none in, the groups are `fixed` itself (so the grid
+        can answer the same groups from its last look)."""
+        groups = fixed
+        allowed = 0
         in_zone = self._in_zone
         skipped = 0  # zoned entries left out before this one
         for place, rule in zoned:
@@ -281,10 +307,13 @@ class Detector:
             side_a = in_zone(store, rule.a, zone, self.kinds)
             side_b = in_zone(store, rule.b, zone, self.kinds) if side_a else ()
             if side_a and side_b:
+                if groups is fixed:
+                    groups = list(fixed)
                 groups.insert(place - skipped, (rule, side_a, side_b))
+                allowed += len(side_a) * len(side_b)
             else:
                 skipped += 1
-        return groups
+        return groups, allowed
 
     def _walk(self, a: Body, b: Body, rule: PairRule, tick: int,
               landed: bool) -> tuple[bool, Contact | None]:

@@ -3,6 +3,7 @@
 Each body is binned into the cells its box covers; a body spanning several cells is reported
 once. Only the bodies the store put in the move buffer since the last query are re-binned,
 and only when their cell range changed; kinds that are never looked up are never binned.
+While no range changed, a query with the same groups gets the last answer without a look.
 """
 
 from __future__ import annotations
@@ -41,65 +42,66 @@ class Grid:
         self.rows: dict[int, dict[int, int]] = {}
         self.ranges: dict[int, CellRange] = {}
         self.rebins = 0  # how many times a body changed cells (for the study and tests)
+        self.version = 0  # moves whenever a body's range does, or a body comes or goes
+        self._last: tuple[int, Sequence[Group], list[Pair]] | None = None  # the last answer
 
     # --- keeping the cells in step with the store --------------------------------------------
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
-        """Bin every body of the probed kinds afresh (on attaching to a store)."""
+        """Range every body and bin those of the probed kinds afresh (on attaching)."""
         self.move_buffer.clear()
         self.layers = {kind: {} for kind in scene.by_kind}
         self.rows = {kind: {} for kind in scene.by_kind}
         self.ranges = {}
-        for kind in kinds.probed:
-            is_swept = kind in kinds.swept
-            for body in scene.by_kind.get(kind, ()):
-                self._update(body, is_swept, scene.tick)
+        self.move_buffer.extend(body for bodies in scene.by_kind.values() for body in bodies)
+        self._drain(scene.tick, kinds)
+        self.version += 1
 
     def _drain(self, tick: int, kinds: KindSets) -> None:
-        """Apply the move buffer: what was added, moved, reshaped or removed."""
+        """Apply the move buffer: what was added, moved, reshaped or removed. Every body's
+        cell range is kept (a probe's too, so a query need not work it out); only bodies of
+        probed kinds are binned. The version moves when any range does."""
         swept, probed = kinds
-        update = self._update
-        for body in self.move_buffer:
-            if body.kind in probed:
-                update(body, body.kind in swept, tick)
-        self.move_buffer.clear()
-
-    def cell_range(self, body: Body, is_swept: bool, tick: int) -> CellRange:
-        """Cells (cx0, cy0, cx1, cy1) covered by the body's box, swept over the tick if asked."""
+        ranges = self.ranges
         c = self.cell
-        x0 = body.x
-        y0 = body.y
-        w = body.w
-        h = body.h
-        x1 = x0 + w
-        y1 = y0 + h
-        if is_swept and body.moved_tick == tick:  # comparisons: cheaper than min() and max()
-            px = body.px
-            py = body.py
-            if px < x0:
-                x0 = px
-            elif px + w > x1:
-                x1 = px + w
-            if py < y0:
-                y0 = py
-            elif py + h > y1:
-                y1 = py + h
-        return x0 // c, y0 // c, (x1 - 1) // c, (y1 - 1) // c
-
-    def _update(self, body: Body, is_swept: bool, tick: int) -> None:
-        old = self.ranges.get(body.id)
-        if not body.alive:
-            if old is not None:
-                self._unbin(body, old)
-                del self.ranges[body.id]
-            return
-        new = self.cell_range(body, is_swept, tick)
-        if new == old:
-            return
-        if old is not None:
-            self._unbin(body, old)
-        self._bin(body, new)
-        self.ranges[body.id] = new
-        self.rebins += 1
+        changed = False
+        for body in self.move_buffer:
+            old = ranges.get(body.id)
+            if not body.alive:
+                if old is not None:
+                    if body.kind in probed:
+                        self._unbin(body, old)
+                    del ranges[body.id]
+                    changed = True
+                continue
+            # The cells of its box over the tick (body.tick_box), inlined: the hot path.
+            x0 = body.x
+            y0 = body.y
+            x1 = x0 + body.w
+            y1 = y0 + body.h
+            if body.moved_tick == tick and body.kind in swept:
+                px = body.px
+                py = body.py
+                if px < x0:
+                    x0 = px
+                elif px + body.w > x1:
+                    x1 = px + body.w
+                if py < y0:
+                    y0 = py
+                elif py + body.h > y1:
+                    y1 = py + body.h
+            new = (x0 // c, y0 // c, (x1 - 1) // c, (y1 - 1) // c)
+            if new == old:
+                continue
+            if body.kind in probed:
+                if old is not None:
+                    self._unbin(body, old)
+                self._bin(body, new)
+                self.rebins += 1
+            ranges[body.id] = new
+            changed = True
+        self.move_buffer.clear()
+        if changed:
+            self.version += 1
 
     def _bin(self, body: Body, r: CellRange) -> None:
         layer = self.layers.setdefault(body.kind, {})
@@ -134,14 +136,22 @@ class Grid:
 
     # --- queries ---------------------------------------------------------------------------
     def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> list[Pair]:
-        tick = scene.tick
+        """The candidates: a function of the cell ranges and the groups only, so while no
+        range changed (the version) the same groups get last query's answer again."""
         if self.move_buffer:
-            self._drain(tick, kinds)
+            self._drain(scene.tick, kinds)
+        last = self._last
+        if last is not None and last[0] == self.version and last[1] is groups:
+            return last[2][:] if last[2] else []
+        out = self._query(groups, kinds)
+        self._last = (self.version, groups, out[:])
+        return out
+
+    def _query(self, groups: Sequence[Group], kinds: KindSets) -> list[Pair]:
         out: list[Pair] = []
         stride = self.STRIDE
         ranges = self.ranges
-        unbinned: dict[int, CellRange] | None = None
-        swept, probed = kinds
+        probed = kinds.probed
         all_rows = self.rows
         layers = self.layers
         for rule, probes, others in groups:
@@ -154,16 +164,8 @@ class Grid:
             layer = layers[rule.b]
             allowed = None if rule.zone is None else {b.id for b in others}
             for probe in probes:
-                # Its binned range (exact, or for a resting swept body a safe superset), or
-                # for a kind that is never binned, worked out once per call.
-                r = ranges.get(probe.id)
-                if r is None:
-                    if unbinned is None:
-                        unbinned = {}
-                    r = unbinned.get(probe.id)
-                    if r is None:
-                        r = unbinned[probe.id] = self.cell_range(probe, kind_a in swept, tick)
-                cx0, cy0, cx1, cy1 = r
+                # Its range: exact, or for a resting swept body a safe superset.
+                cx0, cy0, cx1, cy1 = ranges[probe.id]
                 if cy0 == cy1:
                     if cy0 not in rows:
                         continue  # its one row holds no body of the other kind

@@ -38,6 +38,7 @@ class BodyStore:
         self._buffer: list[Body] | None = None
         self.size = 0  # live bodies, and a bit (1 << kind) for each kind that has some:
         self.present = 0  # kept as they change, so a detector need not count every tick
+        self.membership = 0  # moves whenever a body is added or removed
 
     def attach(self, listener: Listener) -> None:
         """Send every later change to this broad phase (which rebuilds from the store). A
@@ -56,6 +57,7 @@ class BodyStore:
         body.shaped_tick = self.tick
         bodies = self.by_kind[body.kind]
         self.size += 1
+        self.membership += 1
         self.present |= 1 << body.kind
         if not bodies or bodies[-1].id < body.id:
             bodies.append(body)
@@ -110,6 +112,7 @@ class BodyStore:
         bodies = self.by_kind[body.kind]
         del bodies[bisect_left(bodies, body.id, key=_ID)]
         self.size -= 1
+        self.membership += 1
         if not bodies:
             self.present &= ~(1 << body.kind)
         del self.by_id[body.id]
