@@ -20,7 +20,7 @@ from typing import Protocol
 import numpy as np
 
 from invaders.engine.body import Body
-from invaders.engine.broadphase import Group, KindSets, Pair, Scene, ordered
+from invaders.engine.broadphase import Group, KindSets, Pair, Scene
 from invaders.engine.grid import DEFAULT_CELL
 
 ZONE_CELL = 64  # zones are a few wide lanes
@@ -45,6 +45,7 @@ class Boxes:
         self.slot: dict[int, int] = {}
         self.xy = np.zeros((64, 4), dtype=np.int64)  # x0, y0, x1, y1
         self.ids = np.zeros(64, dtype=np.int64)
+        self.objects = np.empty(64, dtype=object)  # bodies[i] again, for picking in bulk
         self.swept_at = np.full(64, -1, dtype=np.int64)  # tick a row's box spans a motion
         self.version = 0  # changes whenever a row does: cells worked out before are stale
         self._cells: dict[tuple[int, bool], tuple[int, np.ndarray, np.ndarray]] = {}
@@ -65,9 +66,11 @@ class Boxes:
         if self.n == len(self.xy):
             self.xy = np.concatenate([self.xy, np.zeros_like(self.xy)])
             self.ids = np.concatenate([self.ids, np.zeros_like(self.ids)])
+            self.objects = np.concatenate([self.objects, np.empty_like(self.objects)])
             self.swept_at = np.concatenate([self.swept_at, np.full_like(self.swept_at, -1)])
         self.slot[body.id] = self.n
         self.ids[self.n] = body.id
+        self.objects[self.n] = body
         self.version += 1
         self.bodies.append(body)
         self.n += 1
@@ -82,29 +85,34 @@ class Boxes:
             self.slot[moved.id] = i
             self.xy[i] = self.xy[last]
             self.ids[i] = moved.id
+            self.objects[i] = moved
             self.swept_at[i] = self.swept_at[last]
+        self.objects[last] = None
         self.bodies.pop()
         self.n = last
         self.version += 1
 
 
-def _boxes(bodies: list[Body], tick: int, swept: bool) -> tuple[np.ndarray, np.ndarray]:
-    """The bodies' boxes (as `tick_box` gives them), worked out together, and for each the
-    tick whose motion it spans (-1: it spans none, so it stays exact while it rests)."""
-    raw = np.array([(b.x, b.y, b.w, b.h, b.px, b.py, b.moved_tick) for b in bodies],
-                   dtype=np.int64)
-    x, y, w, h = raw[:, 0], raw[:, 1], raw[:, 2], raw[:, 3]
+def _boxes(bodies: list[Body], slot: dict[int, int], tick: int,
+           swept: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The bodies' rows, boxes (as `tick_box` gives them) and for each the tick whose
+    motion its box spans (-1: none, so it stays exact while it rests), worked out together.
+    A body listed twice gets the same row twice: it is read as it is now."""
+    raw = np.array([(slot[b.id], b.x, b.y, b.w, b.h, b.px, b.py, b.moved_tick)
+                    for b in bodies], dtype=np.int64)
+    x, y, w, h = raw[:, 1], raw[:, 2], raw[:, 3], raw[:, 4]
     out = np.empty((len(bodies), 4), dtype=np.int64)
-    out[:, 0], out[:, 1], out[:, 2], out[:, 3] = x, y, x + w, y + h
     if not swept:
-        return out, np.full(len(bodies), -1, dtype=np.int64)
-    moved = raw[:, 6] == tick
-    px, py = raw[:, 4], raw[:, 5]
-    out[:, 0] = np.where(moved, np.minimum(x, px), x)
-    out[:, 1] = np.where(moved, np.minimum(y, py), y)
-    out[:, 2] = np.where(moved, np.maximum(x, px) + w, x + w)
-    out[:, 3] = np.where(moved, np.maximum(y, py) + h, y + h)
-    return out, np.where(moved, tick, -1)
+        out[:, 0], out[:, 1], out[:, 2], out[:, 3] = x, y, x + w, y + h
+        return raw[:, 0], out, np.full(len(bodies), -1, dtype=np.int64)
+    moved = raw[:, 7] == tick
+    px = np.where(moved, raw[:, 5], x)
+    py = np.where(moved, raw[:, 6], y)
+    out[:, 0] = np.minimum(x, px)
+    out[:, 1] = np.minimum(y, py)
+    out[:, 2] = np.maximum(x, px) + w
+    out[:, 3] = np.maximum(y, py) + h
+    return raw[:, 0], out, np.where(moved, tick, -1)
 
 
 def _cells(xy: np.ndarray, cell: int) -> tuple[np.ndarray, np.ndarray]:
@@ -180,31 +188,33 @@ class NumpyGrid:
         self._drain(scene.tick, kinds)
 
     def _drain(self, tick: int, kinds: KindSets) -> None:
-        """Apply the move buffer: rows added and removed at once, boxes written together."""
-        swept = kinds.swept
+        """Apply the move buffer: rows added and removed as it says, then the boxes of the
+        live bodies in it written at once, kind by kind (each read as it is now, so one
+        that went is in no list, and one listed twice gets the same box twice)."""
         boxes = self.boxes
-        changed: dict[int, Body] = {}
+        live: dict[int, list[Body]] = {}
         for body in self.move_buffer:
-            table = boxes.get(body.kind)
+            kind = body.kind
+            table = boxes.get(kind)
             if table is None:
-                table = boxes[body.kind] = Boxes()
-            present = body.id in table.slot
+                table = boxes[kind] = Boxes()
             if body.alive:
-                if not present:
+                if body.id not in table.slot:
                     table.add(body)
-                changed[body.id] = body
-            elif present:
+                bodies = live.get(kind)
+                if bodies is None:
+                    live[kind] = [body]
+                else:
+                    bodies.append(body)
+            elif body.id in table.slot:
                 table.remove(body)
         self.move_buffer.clear()
-        by_kind: dict[int, list[Body]] = {}
-        for body in changed.values():
-            if body.alive:
-                by_kind.setdefault(body.kind, []).append(body)
-        for kind, bodies in by_kind.items():
+        swept = kinds.swept
+        for kind, bodies in live.items():
             table = boxes[kind]
-            slot = table.slot
-            rows = [slot[b.id] for b in bodies]
-            table.xy[rows], table.swept_at[rows] = _boxes(bodies, tick, kind in swept)
+            rows, xy, spans = _boxes(bodies, table.slot, tick, kind in swept)
+            table.xy[rows] = xy
+            table.swept_at[rows] = spans
             table.version += 1
 
     def in_zone(self, scene: Scene, kind: int, zone: ZoneTest, kinds: KindSets) -> list[Body]:
@@ -236,49 +246,43 @@ class NumpyGrid:
         if self.move_buffer:
             self._drain(scene.tick, kinds)
         boxes = self.boxes
-        found = []  # per group: (entry, bodies of a, of b, rows i, rows j, low ids, high ids)
+        lows, highs, rules, low_ids, high_ids = [], [], [], [], []
         for rule, side_a, side_b in groups:
             table_a, table_b = boxes.get(rule.a), boxes.get(rule.b)
             if table_a is None or table_b is None or not side_a or not side_b:
                 continue
-            a_bodies, a_rows = self._side(table_a, side_a)
-            b_bodies, b_rows = self._side(table_b, side_b)
-            a_xy = table_a.xy[a_rows]
-            b_xy = table_b.xy[b_rows]
+            a_rows = self._rows(table_a, side_a)
+            b_rows = self._rows(table_b, side_b)
             whole_a = isinstance(a_rows, slice)
             whole_b = isinstance(b_rows, slice)
-            i, j = box_pairs(a_xy, b_xy, self.cell,
+            i, j = box_pairs(table_a.xy[a_rows], table_b.xy[b_rows], self.cell,
                              table_a.cells(self.cell, False) if whole_a else None,
                              table_b.cells(self.cell, True) if whole_b else None)
             if not len(i):
                 continue
             ida, idb = table_a.ids[a_rows][i], table_b.ids[b_rows][j]
+            bodies_a, bodies_b = table_a.objects[a_rows][i], table_b.objects[b_rows][j]
             if rule.a == rule.b:  # a pair of one kind: once, and never a body with itself
                 keep = ida < idb
-                i, j, ida, idb = i[keep], j[keep], ida[keep], idb[keep]
-            found.append((rule, a_bodies, b_bodies, i, j, np.minimum(ida, idb),
-                          np.maximum(ida, idb)))
-        if not found:
+                ida, idb, bodies_a, bodies_b = ida[keep], idb[keep], bodies_a[keep], bodies_b[keep]
+            a_low = ida < idb
+            lows.append(np.where(a_low, bodies_a, bodies_b))
+            highs.append(np.where(a_low, bodies_b, bodies_a))
+            low_ids.append(np.where(a_low, ida, idb))
+            high_ids.append(np.where(a_low, idb, ida))
+            rules.append(np.full(len(ida), rule, dtype=object))
+        if not lows:
             return []
-        if len(found) == 1:
-            rule, a_bodies, b_bodies, i, j, low, high = found[0]
-            order = np.lexsort((high, low))
-            return [ordered(a_bodies[p], b_bodies[q], rule)
-                    for p, q in zip(i[order].tolist(), j[order].tolist(), strict=True)]
-        group = np.concatenate([np.full(len(f[3]), n) for n, f in enumerate(found)])
-        at = np.concatenate([np.arange(len(f[3])) for f in found])
-        order = np.lexsort((np.concatenate([f[6] for f in found]),
-                            np.concatenate([f[5] for f in found])))
-        out: list[Pair] = []
-        for g, k in zip(group[order].tolist(), at[order].tolist(), strict=True):
-            rule, a_bodies, b_bodies, i, j, _, _ = found[g]
-            out.append(ordered(a_bodies[int(i[k])], b_bodies[int(j[k])], rule))
-        return out
+        # One list of (low, high, entry), sorted by ids, built by numpy rather than per pair.
+        order = np.lexsort((np.concatenate(high_ids), np.concatenate(low_ids)))
+        return list(zip(np.concatenate(lows)[order].tolist(),
+                        np.concatenate(highs)[order].tolist(),
+                        np.concatenate(rules)[order].tolist(), strict=True))
 
     @staticmethod
-    def _side(table: Boxes, side: Sequence[Body]) -> tuple[Sequence[Body], slice | list[int]]:
-        """The bodies of a group's side and their rows: the whole table when the side is
-        the whole kind, else the rows of the side's bodies (a zone's)."""
+    def _rows(table: Boxes, side: Sequence[Body]) -> slice | list[int]:
+        """The rows of a group's side: the whole table when the side is the whole kind,
+        else the rows of the side's bodies (a zone's)."""
         if len(side) == table.n:
-            return table.bodies, slice(0, table.n)
-        return side, [table.slot[b.id] for b in side]
+            return slice(0, table.n)
+        return [table.slot[b.id] for b in side]
