@@ -27,7 +27,7 @@ from invaders.engine.broadphase import (
     SortAndSweep,
 )
 from invaders.engine.grid import DEFAULT_CELL, Grid
-from invaders.engine.rules import Motion, PairRule, RuleTable, Shape, Zone
+from invaders.engine.rules import Motion, PairRule, RuleTable, Zone
 from invaders.engine.stats import END, CollisionStats, Contact, contact_order, impact_time
 from invaders.engine.store import BodyStore
 
@@ -40,6 +40,7 @@ BROADPHASES = ("grid", "brute", "sweep", "numpy", "auto")
 # between 1,000 and 3,000.
 NUMPY_FROM = 2000
 NUMPY_UNTIL = 1500  # below this an automatic choice goes back to the grid (no flapping)
+SWEPT, LANDING = Motion.SWEPT, Motion.LANDING  # an enum member by name costs a slow look-up
 
 
 class Adaptive:
@@ -155,8 +156,9 @@ class ZoneIndex:
         return False
 
 
-def _shape_mask(body: Body, shape: Shape) -> pygame.mask.Mask:
-    return body.mask if shape is Shape.MASK else predicates.solid_mask(body.w, body.h)
+def _shape_mask(body: Body, rule: PairRule) -> pygame.mask.Mask:
+    """What the entry tests of the body: its mask, or its whole box."""
+    return body.mask if body.kind in rule.masked else predicates.solid_mask(body.w, body.h)
 
 
 class Detector:
@@ -236,7 +238,8 @@ class Detector:
             rect_tests += 1
             if quick is not None and not quick(_xywh(a, tick, rule), _xywh(b, tick, rule)):
                 continue
-            if rule.motion is Motion.SWEPT:
+            motion = rule.motion
+            if motion is SWEPT:
                 box_hit, contact = self._walk(a, b, rule, tick, landed=False)
                 if box_hit:
                     rect_hits += 1
@@ -251,14 +254,13 @@ class Detector:
             if rule.needs_pixels:
                 mask_tests += 1
                 point = predicates.masks_overlap(
-                    _shape_mask(a, rule.shape_of(a.kind)), a.x, a.y,
-                    _shape_mask(b, rule.shape_of(b.kind)), b.x, b.y)
+                    _shape_mask(a, rule), a.x, a.y, _shape_mask(b, rule), b.x, b.y)
                 if point is None:
                     continue
                 mask_hits += 1
             else:
                 point = (max(a.x, b.x), max(a.y, b.y))
-            if rule.motion is Motion.LANDING:
+            if motion is LANDING:
                 contacts.append(Contact(tick, END, a.id, b.id, a.kind, b.kind, a.x, a.y,
                                         b.x, b.y, *point, rule))
                 continue
@@ -333,8 +335,8 @@ class Detector:
             if not (sx0 < a.w and sx0 + b.w + abs(dx) > 0 and sy0 < a.h
                     and sy0 + b.h + abs(dy) > 0):
                 return False, None
-        a_mask = _shape_mask(a, rule.shape_of(a.kind))
-        b_mask = _shape_mask(b, rule.shape_of(b.kind))
+        a_mask = _shape_mask(a, rule)
+        b_mask = _shape_mask(b, rule)
         fresh = a.shaped_tick == tick or b.shaped_tick == tick
         if b.kind not in self.eroding:
             found = predicates.first_swept_contact(a_mask, b_mask, ox, oy, dx, dy, fresh)

@@ -15,7 +15,7 @@ as a pair handler is in pymunk. The table also names the kinds whose masks chang
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from enum import Enum
 from typing import Any
 
@@ -49,11 +49,16 @@ class PairRule:
     spends_b: bool = False
     response: Response | None = None
     reason: str = ""
+    # Worked out from the above once, as plain fields, since the detector reads them for
+    # every candidate pair: box against box is exact on its own, anything else goes on to
+    # a pixel test; and the kinds whose side is tested by its mask.
+    needs_pixels: bool = field(init=False, repr=False, compare=False)
+    masked: frozenset[int] = field(init=False, repr=False, compare=False)
 
-    @property
-    def needs_pixels(self) -> bool:
-        """Box against box is exact on its own; anything else goes on to a pixel test."""
-        return self.a_shape is Shape.MASK or self.b_shape is Shape.MASK
+    def __post_init__(self) -> None:
+        masked = {kind for kind in (self.b, self.a) if self.shape_of(kind) is Shape.MASK}
+        object.__setattr__(self, "masked", frozenset(masked))
+        object.__setattr__(self, "needs_pixels", Shape.MASK in (self.a_shape, self.b_shape))
 
     def shape_of(self, kind: int) -> Shape:
         return self.a_shape if kind == self.a else self.b_shape

@@ -246,7 +246,7 @@ class ShieldColumns:
         self._seen: dict[int, tuple[int, frozenset[int]]] = {}
         self._tick = -1
         self._world: World | None = None
-        self._key: tuple = ()
+        self._key: tuple = (None, 0)
         self._lit: frozenset[int] = frozenset()
 
     def covers(self, world: World, x: int) -> bool:
@@ -257,8 +257,8 @@ class ShieldColumns:
         tick = world.store.tick
         if tick != self._tick or world is not self._world:
             self._tick, self._world = tick, world
-            key = tuple((b.id, b.x, b.mask.count()) for b in world.bunkers)
-            if key != self._key:
+            key = (world.bunkers, world.erosions)  # the wave's shields, and their wear
+            if key[0] is not self._key[0] or key[1] != self._key[1]:
                 self._key = key
                 self._lit = self._all_columns(world)
         return self._lit
