@@ -45,7 +45,10 @@ def reset_slots(slots: list[BombSlot], store: BodyStore) -> None:
 
 def reload_ready(slots: list[BombSlot], me: BombSlot, steps_needed: int) -> bool:
     """A type may fire only if every *other* busy bomb has made more than R steps."""
-    return all(other is me or not other.busy or other.steps > steps_needed for other in slots)
+    for other in slots:  # a loop, not all(): this is asked every tick
+        if other is not me and other.busy and other.steps <= steps_needed:
+            return False
+    return True
 
 
 def choose_column(slot: BombSlot, config: GameConfig, cannon_centre: int, rack: Rack) -> int | None:

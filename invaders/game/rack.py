@@ -34,6 +34,7 @@ class Rack:
             alien.alive = False  # not drawn yet
             self.aliens.append(alien)
         self.live = len(self.aliens)
+        self._extent: tuple[int, int] | None = None  # lit columns' offsets from ref_x
 
     def live_aliens(self) -> list[Alien]:
         """Live aliens on the screen (drawn at least once), in index order."""
@@ -52,6 +53,7 @@ class Rack:
         """Take an alien out of the rack (the cursor skips it from now on)."""
         self.aliens[alien.index] = None
         self.live -= 1
+        self._extent = None
         store.remove(alien)
 
     def step(self, store: BodyStore) -> Alien | None:
@@ -101,17 +103,19 @@ class Rack:
         self.cursor = 0
 
     def _lit_extent(self) -> tuple[int, int]:
-        """Leftmost and rightmost lit screen columns of the live aliens, at the reference."""
-        g = self.config.geometry
-        left, right = 10**6, -(10**6)
-        for alien in self.aliens:
-            if alien is None:
-                continue
-            lo, hi = art.ALIEN_LIT_COLUMNS[art.ALIEN_BY_ROW[alien.row]]
-            x = self.ref_x + g.cell * alien.col
-            left = min(left, x + lo)
-            right = max(right, x + hi)
-        return left, right
+        """Leftmost and rightmost lit screen columns of the live aliens, at the reference
+        (their offsets from it change only when an alien is killed, so they are kept)."""
+        if self._extent is None:
+            cell = self.config.geometry.cell
+            left, right = 10**6, -(10**6)
+            for alien in self.aliens:
+                if alien is None:
+                    continue
+                lo, hi = art.ALIEN_LIT_COLUMNS[art.ALIEN_BY_ROW[alien.row]]
+                left = min(left, cell * alien.col + lo)
+                right = max(right, cell * alien.col + hi)
+            self._extent = (left, right)
+        return self.ref_x + self._extent[0], self.ref_x + self._extent[1]
 
     def lowest_top(self) -> int:
         """Row of the lowest live alien's picture top (for the invasion test and zones)."""
