@@ -15,6 +15,7 @@ from invaders.engine.broadphase import Group, KindSets, Pair, Scene, ordered, pa
 
 DEFAULT_CELL = 32  # px; fastest at game scale in `invaders study` (16 and 64 close behind)
 CellRange = tuple[int, int, int, int]
+NONE: CellRange = (1, 1, 0, 0)  # a range of no cells
 
 
 class Grid:
@@ -93,9 +94,11 @@ class Grid:
             if new == old:
                 continue
             if body.kind in probed:
-                if old is not None:
-                    self._unbin(body, old)
-                self._bin(body, new)
+                if old is None:
+                    self._bin(body, new)
+                else:
+                    self._unbin(body, old, new)
+                    self._bin(body, new, old)
                 self.rebins += 1
             ranges[body.id] = new
             changed = True
@@ -103,36 +106,53 @@ class Grid:
         if changed:
             self.version += 1
 
-    def _bin(self, body: Body, r: CellRange) -> None:
+    def _bin(self, body: Body, r: CellRange, keep: CellRange = NONE) -> None:
+        """Put the body in the cells of range r but those of `keep` (where it already is:
+        a body that moves across a cell edge changes only the cells on either side)."""
         layer = self.layers.setdefault(body.kind, {})
         rows = self.rows.setdefault(body.kind, {})
         stride = self.STRIDE
+        kx0, ky0, kx1, ky1 = keep
         for cy in range(r[1], r[3] + 1):
-            rows[cy] = rows.get(cy, 0) + r[2] - r[0] + 1
+            kept = ky0 <= cy <= ky1
+            added = 0
             for cx in range(r[0], r[2] + 1):
+                if kept and kx0 <= cx <= kx1:
+                    continue
+                added += 1
                 key = cy * stride + cx
                 cell = layer.get(key)
                 if cell is None:
                     layer[key] = [body]
                 else:
                     cell.append(body)
+            if added:
+                rows[cy] = rows.get(cy, 0) + added
 
-    def _unbin(self, body: Body, r: CellRange) -> None:
+    def _unbin(self, body: Body, r: CellRange, keep: CellRange = NONE) -> None:
+        """Take the body out of the cells of range r but those of `keep`."""
         layer = self.layers[body.kind]
         rows = self.rows[body.kind]
         stride = self.STRIDE
+        kx0, ky0, kx1, ky1 = keep
         for cy in range(r[1], r[3] + 1):
-            left = rows[cy] - (r[2] - r[0] + 1)
-            if left:
-                rows[cy] = left
-            else:
-                del rows[cy]
+            kept = ky0 <= cy <= ky1
+            removed = 0
             for cx in range(r[0], r[2] + 1):
+                if kept and kx0 <= cx <= kx1:
+                    continue
+                removed += 1
                 key = cy * stride + cx
                 cell = layer[key]
                 cell.remove(body)
                 if not cell:
                     del layer[key]
+            if removed:
+                left = rows[cy] - removed
+                if left:
+                    rows[cy] = left
+                else:
+                    del rows[cy]
 
     # --- queries ---------------------------------------------------------------------------
     def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> list[Pair]:
