@@ -95,6 +95,7 @@ class World:
         self.aliens_killed = 0
         self.fire_was_down = False
         self.events: list[Event] = []
+        self._reload: tuple[int, GameConfig | None, int] = (-1, None, 0)  # score, config, steps
         self.ground = art.fresh_mask(art.GROUND)
         self._new_game()
 
@@ -297,7 +298,10 @@ class World:
             return
         if slot.btype is SQUIGGLY and self.saucer.busy:
             return
-        if not bombs.reload_ready(self.slots, slot, cfg.reload_steps_for(self.score)):
+        reload = self._reload
+        if reload[0] != self.score or reload[1] is not cfg:  # kept: asked nearly every tick
+            reload = self._reload = (self.score, cfg, cfg.reload_steps_for(self.score))
+        if not bombs.reload_ready(self.slots, slot, reload[2]):
             return
         if slot.skip_next:
             slot.skip_next = False
