@@ -68,7 +68,9 @@ def _listed(options: Sequence[int]) -> str:
     return ", ".join(map(str, options[:-1])) + f" or {options[-1]}"
 
 
-def build_parser() -> Parser:
+def build_parser(command: str | None = None) -> Parser:
+    """The whole command line, or with `command` only that command's part: argparse makes
+    a parser per command, and a run should not pay for five (start-up time)."""
     parser = Parser(
         prog="invaders",
         description="Space Invaders (1978) at its own 224x256 resolution, and a measured "
@@ -80,6 +82,13 @@ def build_parser() -> Parser:
     parser.add_argument("--version", action="version", version=f"invaders {__version__}")
     sub = parser.add_subparsers(dest="command", parser_class=Parser)
 
+    for name, add in COMMAND_PARSERS.items():
+        if command in (None, name):
+            add(sub)
+    return parser
+
+
+def _add_play(sub: argparse._SubParsersAction) -> None:
     play = sub.add_parser("play", help="play in a window")
     play.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0)
     play.add_argument("--scale", type=_int_in("--scale", 1, 8), default=3)
@@ -99,6 +108,8 @@ def build_parser() -> Parser:
         "--lab", action="store_true",
         help="open the lab panel beside the playfield (F4 in any game; a lab option opens it)")
 
+
+def _add_run(sub: argparse._SubParsersAction) -> None:
     run = sub.add_parser("run", help="run headless and print a summary and the state hash")
     run.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=3600)
     run.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0)
@@ -116,12 +127,16 @@ def build_parser() -> Parser:
                      help="score every tick's contacts against the exact oracle")
     run.add_argument("--record", metavar="FILE", help="save the run as a replay (JSON)")
 
+
+def _add_replay(sub: argparse._SubParsersAction) -> None:
     check = sub.add_parser("replay", help="run replays headless and check their checkpoints")
     check.add_argument("paths", nargs="+", metavar="PATH", help="replay files or folders")
     check.add_argument("--update", action="store_true",
                        help="rewrite the expected checkpoints (after an intended rule change)")
     check.add_argument("--broadphase", choices=BROADPHASES, default="grid")
 
+
+def _add_study(sub: argparse._SubParsersAction) -> None:
     study = sub.add_parser("study", help="speed against accuracy: the method matrix, charts")
     study.add_argument("--quick", action="store_true", help="a smaller matrix (under a minute)")
     study.add_argument("--big", action="store_true",
@@ -135,6 +150,8 @@ def build_parser() -> Parser:
     study.add_argument("--replays", metavar="FOLDER", default=None,
                        help="the replays to study (*.json)")
 
+
+def _add_bench(sub: argparse._SubParsersAction) -> None:
     bench = sub.add_parser("bench", help="time the pipeline against references, as ratios")
     bench.add_argument("--ticks", type=_int_in("--ticks", 60, MAX_TICKS), default=3600)
     bench.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=7)
@@ -146,7 +163,10 @@ def build_parser() -> Parser:
                             "broad phase, the automatic choice and pymunk")
     bench.add_argument("--rounds", type=_int_in("--rounds", 3, 100), default=10,
                        help="interleaved rounds; figures are medians over them")
-    return parser
+
+
+COMMAND_PARSERS = {"play": _add_play, "run": _add_run, "replay": _add_replay,
+                   "study": _add_study, "bench": _add_bench}
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -340,7 +360,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     debug = "--debug" in argv
     argv = [arg for arg in argv if arg != "--debug"]
     try:
-        args = build_parser().parse_args(argv)
+        args = build_parser(argv[0] if argv and argv[0] in COMMANDS else None).parse_args(argv)
         if args.command is None:
             args = build_parser().parse_args(["play", *argv])
         return COMMANDS[args.command](args)
