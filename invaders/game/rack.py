@@ -35,6 +35,7 @@ class Rack:
             self.aliens.append(alien)
         self.live = len(self.aliens)
         self._extent: tuple[int, int] | None = None  # lit columns' offsets from ref_x
+        self._upcoming: int | None = None  # the next live index from the cursor, if known
 
     def live_aliens(self) -> list[Alien]:
         """Live aliens on the screen (drawn at least once), in index order."""
@@ -54,6 +55,7 @@ class Rack:
         self.aliens[alien.index] = None
         self.live -= 1
         self._extent = None
+        self._upcoming = None
         store.remove(alien)
 
     def step(self, store: BodyStore) -> Alien | None:
@@ -61,7 +63,9 @@ class Rack:
         if self.live == 0:
             return None
         g = self.config.geometry
-        index = self._next_live(self.cursor)
+        index = self._upcoming  # worked out at the end of the last step, unless one died
+        if index is None:
+            index = self._next_live(self.cursor)
         if index is None:
             self._wrap()
             index = self._next_live(0)
@@ -76,7 +80,8 @@ class Rack:
             store.reshape(alien, ALIEN_MASKS[row][self.frame])
         store.move(alien, self.ref_x + g.cell * col, self.ref_top - g.cell * row - 8)
         self.cursor = index + 1
-        if self._next_live(self.cursor) is None:
+        self._upcoming = self._next_live(self.cursor)
+        if self._upcoming is None:
             self._wrap()
         return alien
 

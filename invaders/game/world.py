@@ -211,7 +211,7 @@ class World:
 
     def _projectile_turn(self) -> None:
         """The bomb type (or the saucer) whose turn this tick is."""
-        turn = self.tick % 3
+        turn = self.store.tick % 3
         slot = self.slots[turn]
         if turn == SQUIGGLY and (self.saucer.saucer or self.saucer.hit_steps):
             self._saucer_turn()
