@@ -11,8 +11,7 @@ from __future__ import annotations
 import random
 
 from invaders.game.actions import Action
-from invaders.game.entities import CannonState
-from invaders.game.world import Phase, World
+from invaders.game.world import ACTIVE, GAME_OVER, World
 from invaders.lab.styles import STYLES
 
 DODGE_LOOKAHEAD_TICKS = 45  # bombs further than this from the cannon's rows are ignored
@@ -67,10 +66,10 @@ class Autopilot:
         self._columns = ShooterColumns()
 
     def actions(self, world: World) -> int:
-        if world.phase is Phase.GAME_OVER:
+        if world.phase is GAME_OVER:
             return START if world.tick % 30 == 0 else 0
         cannon = world.cannon
-        if cannon.state is not CannonState.ACTIVE:
+        if cannon.state is not ACTIVE:
             return 0
         centre = cannon.x + 8
         wish = self._wandering()
@@ -153,8 +152,9 @@ class Autopilot:
 
     def _target_x(self, world: World) -> int | None:
         """Where to put the cannon's centre this tick (worked out once per tick)."""
-        if self._target_tick != world.tick:
-            self._target_tick = world.tick
+        tick = world.store.tick
+        if self._target_tick != tick:
+            self._target_tick = tick
             self._target = self._find_target(world)
         return self._target
 
@@ -181,7 +181,7 @@ class Autopilot:
             x = alien.x + 8
             blocked = x in lit
             y = alien.y  # the lowest has the largest y (its picture's top is y + 8)
-            dist = abs(x - centre)
+            dist = x - centre if x > centre else centre - x
             if best_x is None or (not blocked and best_blocked) or (
                     blocked == best_blocked and (y > best_y or (y == best_y
                                                                 and dist < best_dist))):
