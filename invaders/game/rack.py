@@ -35,7 +35,7 @@ class Rack:
             self.aliens.append(alien)
         self.live = len(self.aliens)
         self._extent: tuple[int, int] | None = None  # lit columns' offsets from ref_x
-        self._upcoming: int | None = None  # the next live index from the cursor, if known
+        self._upcoming: tuple[int, int | None] = (0, None)  # (cursor, next live index)
 
     def live_aliens(self) -> list[Alien]:
         """Live aliens on the screen (drawn at least once), in index order."""
@@ -55,7 +55,7 @@ class Rack:
         self.aliens[alien.index] = None
         self.live -= 1
         self._extent = None
-        self._upcoming = None
+        self._upcoming = (0, None)
         store.remove(alien)
 
     def step(self, store: BodyStore) -> Alien | None:
@@ -63,8 +63,10 @@ class Rack:
         if self.live == 0:
             return None
         g = self.config.geometry
-        index = self._upcoming  # worked out at the end of the last step, unless one died
-        if index is None:
+        # The next live index from the cursor, worked out at the end of the last step (kept
+        # for that cursor, and forgotten when an alien is killed).
+        cursor, index = self._upcoming
+        if index is None or cursor != self.cursor:
             index = self._next_live(self.cursor)
         if index is None:
             self._wrap()
@@ -80,8 +82,9 @@ class Rack:
             store.reshape(alien, ALIEN_MASKS[row][self.frame])
         store.move(alien, self.ref_x + g.cell * col, self.ref_top - g.cell * row - 8)
         self.cursor = index + 1
-        self._upcoming = self._next_live(self.cursor)
-        if self._upcoming is None:
+        upcoming = self._next_live(self.cursor)
+        self._upcoming = (self.cursor, upcoming)
+        if upcoming is None:
             self._wrap()
         return alien
 
