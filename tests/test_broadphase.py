@@ -145,3 +145,38 @@ def test_a_body_spanning_many_cells_is_reported_once():
     contacts, stats = Detector(Grid(4), GAME_RULES).detect(scene)  # the saucer covers 6x2 cells
     assert stats.candidates == 1
     assert [(c.a_id, c.b_id) for c in contacts] == [(1, 2)]
+
+
+def test_the_grid_answers_from_its_last_look_only_while_no_cell_range_changes():
+    """Candidates depend on cell ranges alone: a move inside a cell reuses the last answer
+    (and the exact tests still see the new places); a move across a cell edge looks again."""
+    from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
+    from invaders.engine.store import BodyStore
+
+    rules = RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, Motion.DISCRETE),))
+    store = BodyStore((1, 2))
+    grid = Grid(32)
+    detector = Detector(grid, rules)
+    block = art.mask_of(("####",) * 4)
+    probe, target = Body(1, 1, 0, 0, block), Body(2, 2, 20, 20, block)
+    store.add(probe)
+    store.add(target)
+    looks = []
+    query = grid._query
+    grid._query = lambda *args: looks.append(store.tick) or query(*args)
+
+    def tick(x: int, y: int) -> tuple[int, list[tuple[int, int]]]:
+        store.tick += 1
+        store.move(probe, x, y)
+        contacts, stats = detector.detect(store)
+        return stats.candidates, [(c.a_id, c.b_id) for c in contacts]
+
+    contacts, stats = detector.detect(store)
+    assert (stats.candidates, contacts, looks) == (1, [], [0])  # both in cell (0, 0)
+    assert tick(8, 8) == (1, [])  # still in cell (0, 0): the same candidate, still apart
+    assert tick(18, 18) == (1, [(1, 2)])  # overlapping now, found from the same candidate
+    assert looks == [0]  # no look since the first
+    assert tick(40, 0) == (0, [])  # in cell (1, 0): looked again, no candidate left
+    assert looks == [0, 3]
+    assert tick(20, 20) == (1, [(1, 2)])  # back: looked again
+    assert looks == [0, 3, 4]
