@@ -9,10 +9,14 @@ cosmetic.
 
 from __future__ import annotations
 
-import hashlib
 from collections.abc import Mapping
 
 import pygame
+
+try:  # hashlib's own blake2b, without hashlib loading OpenSSL for the others (start-up)
+    from _blake2 import blake2b
+except ImportError:  # an interpreter without that module
+    from hashlib import blake2b
 
 GROUPS = ("game", "rack", "cannon", "shot", "bombs", "saucer", "shields", "ground",
           "explosions")
@@ -27,7 +31,7 @@ def mask_bytes(mask: pygame.mask.Mask) -> bytes:
 def digest(value: object) -> str:
     """A short digest of a plain value (bytes as they are, anything else by its repr)."""
     data = value if isinstance(value, bytes) else repr(value).encode()
-    return hashlib.blake2b(data, digest_size=8).hexdigest()
+    return blake2b(data, digest_size=8).hexdigest()
 
 
 def group_hashes(values: Mapping[str, object]) -> dict[str, str]:
@@ -38,4 +42,4 @@ def group_hashes(values: Mapping[str, object]) -> dict[str, str]:
 def combine(groups: Mapping[str, str]) -> str:
     """The state hash (128 bits, hex) from the group digests."""
     text = ",".join(f"{name}={groups[name]}" for name in GROUPS)
-    return hashlib.blake2b(text.encode(), digest_size=16).hexdigest()
+    return blake2b(text.encode(), digest_size=16).hexdigest()
