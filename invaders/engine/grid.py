@@ -13,7 +13,7 @@ from collections.abc import Sequence
 from invaders.engine.body import Body
 from invaders.engine.broadphase import Group, KindSets, Pair, Scene, ordered, pair_key
 
-DEFAULT_CELL = 32  # px; fastest at game scale in `invaders study` (16 and 64 close behind)
+DEFAULT_CELL = 32  # px; `invaders study` finds 16 to 64 px within a few percent at game scale
 CellRange = tuple[int, int, int, int]
 NONE: CellRange = (1, 1, 0, 0)  # a range of no cells
 
