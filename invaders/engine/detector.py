@@ -35,8 +35,8 @@ QuickTest = Callable[[tuple[int, int, int, int], tuple[int, int, int, int]], boo
 BROADPHASES = ("grid", "brute", "sweep", "numpy", "auto")
 # Bodies from which the numpy broad phase beats the grid, as measured on storms on a 2-core
 # machine (ms of detection a tick, grid then numpy): `invaders study` (docs/study/
-# scaling.csv) 1,000 bodies 2.7 and 5.3, 3,000 10.7 and 7.1, 10,000 60.9 and 19.1;
-# `invaders bench --big` 1,000 2.21 and 2.58, 10,000 28.3 and 15.0. The crossing lies
+# scaling.csv) 1,000 bodies 2.0 and 2.2, 3,000 6.8 and 4.7, 10,000 24.7 and 13.1;
+# `invaders bench --big` 1,000 1.87 and 2.09, 10,000 22.3 and 11.6. The crossing lies
 # between 1,000 and 3,000.
 NUMPY_FROM = 2000
 NUMPY_UNTIL = 1500  # below this an automatic choice goes back to the grid (no flapping)
