@@ -22,7 +22,7 @@ class Grid:
     """Uniform grid, one layer of cells per kind, so a probe only meets kinds it may hit.
 
     In each rule side `a` probes the layer of kind `b`; kinds that are never looked up are
-    never binned, so moving them costs nothing here.
+    never binned, so moving one costs only working out its range.
 
     Swept kinds are binned by the union of their boxes at the start and end of the tick. A
     body that stopped moving keeps its larger range until it next changes: a superset, which
@@ -41,7 +41,7 @@ class Grid:
         # Per layer, how many binned cells each cell row holds: a probe whose rows are all
         # empty in the other layer skips its cells at the cost of one look-up per row.
         self.rows: dict[int, dict[int, int]] = {}
-        self.ranges: dict[int, CellRange] = {}
+        self.ranges: dict[int, CellRange] = {}  # every live body's, binned or not
         self.rebins = 0  # how many times a body changed cells (for the study and tests)
         self.version = 0  # moves whenever a body's range does, or a body comes or goes
         self._last: tuple[int, Sequence[Group], list[Pair]] | None = None  # the last answer
