@@ -36,7 +36,7 @@ BROADPHASES = ("grid", "brute", "sweep", "numpy", "auto")
 # Bodies from which the numpy broad phase beats the grid, as measured on storms on a 2-core
 # machine (ms of detection a tick, grid then numpy): `invaders study` (docs/study/
 # scaling.csv) 1,000 bodies 2.0 and 2.2, 3,000 6.8 and 4.7, 10,000 24.7 and 13.1;
-# `invaders bench --big` 1,000 1.87 and 2.09, 10,000 22.3 and 11.6. The crossing lies
+# `invaders bench --big` 1,000 1.94 and 2.14, 10,000 24.2 and 11.9. The crossing lies
 # between 1,000 and 3,000.
 NUMPY_FROM = 2000
 NUMPY_UNTIL = 1500  # below this an automatic choice goes back to the grid (no flapping)
