@@ -176,9 +176,8 @@ class Detector:
                              else ZoneIndex(rule.zone)) for rule in rules)
         self._plans: dict[int, tuple] = {}  # kinds present (bit mask) -> groups that apply
         self._planned_for: BodyStore | None = None
-        self._allowed: tuple[int, int, int] | None = None  # (present, membership, pairs)
+        self._allowed: tuple[int, int] | None = None  # (store membership, pairs allowed)
         self._quiet: dict[tuple[int, int], CollisionStats] = {}  # counters of empty ticks
-        self._zones = {id(rule): zone for rule, _, _, zone in self._table if zone is not None}
         # A broad phase may find the bodies in a zone faster than testing each one.
         self._in_zone = getattr(broadphase, "in_zone", None) or _tested_in_zone
 
@@ -206,14 +205,15 @@ class Detector:
             plan = self._plans[present] = self._plan(store)
         groups, zoned = plan
         # Pairs the rules allow in the zone-less groups: they change only when a body comes
-        # or goes, so they are counted again only then.
+        # or goes (which is also the only way the kinds present change), so they are
+        # counted again only then.
         counted = self._allowed
-        if counted is None or counted[0] != present or counted[1] != store.membership:
+        if counted is None or counted[0] != store.membership:
             allowed = 0
             for _, side_a, side_b in groups:
                 allowed += len(side_a) * len(side_b)
-            self._allowed = counted = (present, store.membership, allowed)
-        allowed = counted[2]
+            self._allowed = counted = (store.membership, allowed)
+        allowed = counted[1]
         if zoned:
             groups, in_zones = self._with_zones(store, groups, zoned)
             allowed += in_zones
@@ -278,24 +278,25 @@ class Detector:
                 observer.after(store, pairs, contacts, stats)
         return contacts, stats
 
-    def _plan(self, store: BodyStore) -> tuple[list[Group], list[tuple[int, PairRule]]]:
+    def _plan(self, store: BodyStore
+              ) -> tuple[list[Group], list[tuple[int, PairRule, ZoneIndex]]]:
         """For the kinds the store has now: the groups of the entries without a zone (the
         store's own lists, the same every tick) and, by place in the table, the entries
-        with one (filtered every tick)."""
+        with one and their zones (filtered every tick)."""
         by_kind = store.by_kind
         present = store.present
         groups: list[Group] = []
-        zoned: list[tuple[int, PairRule]] = []
+        zoned: list[tuple[int, PairRule, ZoneIndex]] = []
         for rule, kind_a, kind_b, zone in self._table:
             if present >> kind_a & 1 and present >> kind_b & 1:
                 if zone is None:
                     groups.append((rule, by_kind[kind_a], by_kind[kind_b]))
                 else:
-                    zoned.append((len(groups) + len(zoned), rule))
+                    zoned.append((len(groups) + len(zoned), rule, zone))
         return groups, zoned
 
     def _with_zones(self, store: BodyStore, fixed: list[Group],
-                    zoned: list[tuple[int, PairRule]]) -> tuple[list[Group], int]:
+                    zoned: list[tuple[int, PairRule, ZoneIndex]]) -> tuple[list[Group], int]:
         """The tick's groups in table order: the fixed ones, and each zoned entry with the
         bodies of its sides inside its zone (left out if a side has none); and the pairs
         those zoned groups allow. With none in, the groups are `fixed` itself (so the grid
@@ -304,8 +305,7 @@ class Detector:
         allowed = 0
         in_zone = self._in_zone
         skipped = 0  # zoned entries left out before this one
-        for place, rule in zoned:
-            zone = self._zones[id(rule)]
+        for place, rule, zone in zoned:
             side_a = in_zone(store, rule.a, zone, self.kinds)
             side_b = in_zone(store, rule.b, zone, self.kinds) if side_a else ()
             if side_a and side_b:
