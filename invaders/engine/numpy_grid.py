@@ -37,18 +37,22 @@ class ZoneTest(Protocol):
 
 
 class Boxes:
-    """One kind's bodies and their boxes, row i of the arrays being `bodies[i]`."""
+    """One kind's bodies and their boxes, row i of the arrays being `objects[i]`."""
 
     def __init__(self) -> None:
         self.n = 0
-        self.bodies: list[Body] = []
         self.slot: dict[int, int] = {}
         self.xy = np.zeros((64, 4), dtype=np.int64)  # x0, y0, x1, y1
-        self.ids = np.zeros(64, dtype=np.int64)
-        self.objects = np.empty(64, dtype=object)  # bodies[i] again, for picking in bulk
+        self.ids = np.zeros(64, dtype=np.int64)  # each row's body id, for sorting in bulk
+        self.objects = np.empty(64, dtype=object)  # the body of each row, picked in bulk
         self.swept_at = np.full(64, -1, dtype=np.int64)  # tick a row's box spans a motion
         self.version = 0  # changes whenever a row does: cells worked out before are stale
         self._cells: dict[tuple[int, bool], tuple[int, np.ndarray, np.ndarray]] = {}
+
+    @property
+    def bodies(self) -> list[Body]:
+        """The bodies, row by row."""
+        return self.objects[:self.n].tolist()
 
     def cells(self, cell: int, looked_up: bool) -> tuple[np.ndarray, np.ndarray]:
         """(cell key, row) of every cell each box covers, sorted by key if `looked_up`;
@@ -62,6 +66,7 @@ class Boxes:
             keys, rows = keys[order], rows[order]
         self._cells[(cell, looked_up)] = (self.version, keys, rows)
         return keys, rows
+
     def add(self, body: Body) -> None:
         if self.n == len(self.xy):
             self.xy = np.concatenate([self.xy, np.zeros_like(self.xy)])
@@ -72,7 +77,6 @@ class Boxes:
         self.ids[self.n] = body.id
         self.objects[self.n] = body
         self.version += 1
-        self.bodies.append(body)
         self.n += 1
 
     def remove(self, body: Body) -> None:
@@ -80,15 +84,13 @@ class Boxes:
         i = self.slot.pop(body.id)
         last = self.n - 1
         if i != last:
-            moved = self.bodies[last]
-            self.bodies[i] = moved
+            moved = self.objects[last]
             self.slot[moved.id] = i
             self.xy[i] = self.xy[last]
             self.ids[i] = moved.id
             self.objects[i] = moved
             self.swept_at[i] = self.swept_at[last]
         self.objects[last] = None
-        self.bodies.pop()
         self.n = last
         self.version += 1
 
@@ -238,7 +240,7 @@ class NumpyGrid:
         tick = scene.tick
         spans = table.swept_at[rows]
         exact = ((spans == -1) | (spans == tick)).tolist()  # its box is this tick's own
-        bodies = table.bodies
+        bodies = table.objects
         return [bodies[r] for r, sure in zip(rows.tolist(), exact, strict=True)
                 if sure or zone.holds(bodies[r], tick)]
 
