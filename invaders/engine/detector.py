@@ -41,6 +41,7 @@ BROADPHASES = ("grid", "brute", "sweep", "numpy", "auto")
 NUMPY_FROM = 2000
 NUMPY_UNTIL = 1500  # below this an automatic choice goes back to the grid (no flapping)
 SWEPT, LANDING = Motion.SWEPT, Motion.LANDING  # an enum member by name costs a slow look-up
+_solid_mask = predicates.solid_mask
 
 
 class Adaptive:
@@ -158,7 +159,7 @@ class ZoneIndex:
 
 def _shape_mask(body: Body, rule: PairRule) -> pygame.mask.Mask:
     """What the entry tests of the body: its mask, or its whole box."""
-    return body.mask if body.kind in rule.masked else predicates.solid_mask(body.w, body.h)
+    return body.mask if body.kind in rule.masked else _solid_mask(body.w, body.h)
 
 
 class Detector:
@@ -335,8 +336,9 @@ class Detector:
             if not (sx0 < a.w and sx0 + b.w + abs(dx) > 0 and sy0 < a.h
                     and sy0 + b.h + abs(dy) > 0):
                 return False, None
-        a_mask = _shape_mask(a, rule)
-        b_mask = _shape_mask(b, rule)
+        masked = rule.masked  # _shape_mask, inlined
+        a_mask = a.mask if a.kind in masked else _solid_mask(a.w, a.h)
+        b_mask = b.mask if b.kind in masked else _solid_mask(b.w, b.h)
         fresh = a.shaped_tick == tick or b.shaped_tick == tick
         if b.kind not in self.eroding:
             found = predicates.first_swept_contact(a_mask, b_mask, ox, oy, dx, dy, fresh)
