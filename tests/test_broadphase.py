@@ -180,3 +180,31 @@ def test_the_grid_answers_from_its_last_look_only_while_no_cell_range_changes():
     assert looks == [0, 3]
     assert tick(20, 20) == (1, [(1, 2)])  # back: looked again
     assert looks == [0, 3, 4]
+
+
+@settings(max_examples=80, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), cell=st.sampled_from([3, 8, 32]),
+       a_size=st.integers(1, 40), b_size=st.integers(1, 40))
+def test_numpy_box_pairs_are_the_overlapping_boxes_each_once(seed, cell, a_size, b_size):
+    """Boxes that cover one cell each and boxes that cover many (where a pair shares several
+    cells and must still come out once): exactly the pairs brute force finds overlapping."""
+    import numpy as np
+
+    from invaders.engine.numpy_grid import box_pairs
+
+    rng = random.Random(seed)
+
+    def boxes(n: int, size: int) -> np.ndarray:
+        rows = []
+        for _ in range(n):
+            x, y = rng.randrange(-50, 50), rng.randrange(-50, 50)
+            rows.append((x, y, x + rng.randrange(1, size + 1), y + rng.randrange(1, size + 1)))
+        return np.array(rows, dtype=np.int64).reshape(-1, 4)
+
+    a, b = boxes(rng.randrange(0, 30), a_size), boxes(rng.randrange(0, 30), b_size)
+    i, j = box_pairs(a, b, cell)
+    found = list(zip(i.tolist(), j.tolist(), strict=True))
+    expected = [(p, q) for p in range(len(a)) for q in range(len(b))
+                if a[p, 0] < b[q, 2] and b[q, 0] < a[p, 2]
+                and a[p, 1] < b[q, 3] and b[q, 1] < a[p, 3]]
+    assert sorted(found) == expected

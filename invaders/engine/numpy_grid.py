@@ -15,6 +15,7 @@ so the contacts are the same as with every other broad phase.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from itertools import chain
 from typing import Protocol
 
 import numpy as np
@@ -47,25 +48,31 @@ class Boxes:
         self.objects = np.empty(64, dtype=object)  # the body of each row, picked in bulk
         self.swept_at = np.full(64, -1, dtype=np.int64)  # tick a row's box spans a motion
         self.version = 0  # changes whenever a row does: cells worked out before are stale
-        self._cells: dict[tuple[int, bool], tuple[int, np.ndarray, np.ndarray]] = {}
+        self._cells: dict[tuple[int, bool], tuple[int, tuple]] = {}
 
     @property
     def bodies(self) -> list[Body]:
         """The bodies, row by row."""
         return self.objects[:self.n].tolist()
 
-    def cells(self, cell: int, looked_up: bool) -> tuple[np.ndarray, np.ndarray]:
-        """(cell key, row) of every cell each box covers, sorted by key if `looked_up`;
-        kept until a row changes, so a kind that does not move is hashed once."""
-        kept = self._cells.get((cell, looked_up))
+    def cells(self, cell: int) -> tuple[np.ndarray, np.ndarray]:
+        """(cell key, row) of every cell each box covers; kept until a row changes, so a
+        kind that does not move is hashed once."""
+        kept = self._cells.get((cell, False))
         if kept is not None and kept[0] == self.version:
-            return kept[1], kept[2]
-        keys, rows = _cells(self.xy[:self.n], cell)
-        if looked_up:
-            order = np.argsort(keys, kind="stable")
-            keys, rows = keys[order], rows[order]
-        self._cells[(cell, looked_up)] = (self.version, keys, rows)
-        return keys, rows
+            return kept[1]
+        found = _cells(self.xy[:self.n], cell)
+        self._cells[(cell, False)] = (self.version, found)
+        return found
+
+    def index(self, cell: int) -> CellIndex:
+        """The cells as an index to look keys up in (`_index`); kept as `cells` is."""
+        kept = self._cells.get((cell, True))
+        if kept is not None and kept[0] == self.version:
+            return kept[1]
+        found = _index(*self.cells(cell), self.n)
+        self._cells[(cell, True)] = (self.version, found)
+        return found
 
     def add(self, body: Body) -> None:
         if self.n == len(self.xy):
@@ -99,14 +106,25 @@ def _boxes(bodies: list[Body], slot: dict[int, int], tick: int,
            swept: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The bodies' rows, boxes (as `tick_box` gives them) and for each the tick whose
     motion its box spans (-1: none, so it stays exact while it rests), worked out together.
-    A body listed twice gets the same row twice: it is read as it is now."""
-    raw = np.array([(slot[b.id], b.x, b.y, b.w, b.h, b.px, b.py, b.moved_tick)
-                    for b in bodies], dtype=np.int64)
-    x, y, w, h = raw[:, 1], raw[:, 2], raw[:, 3], raw[:, 4]
-    out = np.empty((len(bodies), 4), dtype=np.int64)
+    A body with no row yet gets -1. A body listed twice gets the same row twice: it is read
+    as it is now. (The attributes are read into one flat list and handed to numpy in one
+    go: turning a list of tuples into an array costs numpy about twice as much as reading
+    the bodies.)"""
+    n = len(bodies)
+    get = slot.get
     if not swept:
-        out[:, 0], out[:, 1], out[:, 2], out[:, 3] = x, y, x + w, y + h
-        return raw[:, 0], out, np.full(len(bodies), -1, dtype=np.int64)
+        raw = np.fromiter(chain.from_iterable([(get(b.id, -1), b.x, b.y, b.w, b.h)
+                                               for b in bodies]), np.int64, 5 * n)
+        raw = raw.reshape(n, 5)
+        x, y = raw[:, 1], raw[:, 2]
+        out = np.empty((n, 4), dtype=np.int64)
+        out[:, 0], out[:, 1], out[:, 2], out[:, 3] = x, y, x + raw[:, 3], y + raw[:, 4]
+        return raw[:, 0], out, np.full(n, -1, dtype=np.int64)
+    raw = np.fromiter(chain.from_iterable([(get(b.id, -1), b.x, b.y, b.w, b.h, b.px, b.py,
+                                            b.moved_tick) for b in bodies]), np.int64, 8 * n)
+    raw = raw.reshape(n, 8)
+    x, y, w, h = raw[:, 1], raw[:, 2], raw[:, 3], raw[:, 4]
+    out = np.empty((n, 4), dtype=np.int64)
     moved = raw[:, 7] == tick
     px = np.where(moved, raw[:, 5], x)
     py = np.where(moved, raw[:, 6], y)
@@ -135,27 +153,40 @@ def _cells(xy: np.ndarray, cell: int) -> tuple[np.ndarray, np.ndarray]:
     return (cy + OFFSET) * STRIDE + (cx + OFFSET), rows
 
 
+CellIndex = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool]
+
+
+def _index(keys: np.ndarray, rows: np.ndarray, boxes: int) -> CellIndex:
+    """Cells to look up: each distinct key once, sorted, with where its rows start in the
+    rows sorted by key and how many there are; and whether each row has one cell."""
+    order = np.argsort(keys, kind="stable")
+    keys, by_key = keys[order], rows[order]
+    if not len(keys):
+        return keys, keys, keys, by_key, True
+    starts = np.flatnonzero(np.concatenate(([True], keys[1:] != keys[:-1])))
+    counts = np.diff(np.append(starts, len(keys)))
+    single = len(rows) == boxes
+    return keys[starts], starts, counts, by_key, single
+
+
 def box_pairs(a: np.ndarray, b: np.ndarray, cell: int,
               a_cells: tuple[np.ndarray, np.ndarray] | None = None,
-              b_sorted: tuple[np.ndarray, np.ndarray] | None = None,
-              ) -> tuple[np.ndarray, np.ndarray]:
+              b_index: CellIndex | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Rows (i, j) of boxes a[i] and b[j] that overlap, each pair once, by way of the
-    cells they share (`a_cells`, and `b_sorted` sorted by key, if already worked out)."""
+    cells they share (`a_cells` and `b_index`, if already worked out)."""
     ka, ra = a_cells if a_cells is not None else _cells(a, cell)
-    if b_sorted is not None:
-        kb, rb = b_sorted
-    else:
-        kb, rb = _cells(b, cell)
-        order = np.argsort(kb, kind="stable")
-        kb, rb = kb[order], rb[order]
-    lo = np.searchsorted(kb, ka, "left")
-    hi = np.searchsorted(kb, ka, "right")
-    n = hi - lo
-    has = n > 0
+    keys, starts, counts, rb, b_single = b_index if b_index is not None else _index(
+        *_cells(b, cell), len(b))
+    if not len(keys) or not len(ka):
+        empty = np.zeros(0, dtype=np.int64)
+        return empty, empty
+    at = np.minimum(np.searchsorted(keys, ka), len(keys) - 1)
+    has = keys[at] == ka
     if not has.any():
         empty = np.zeros(0, dtype=np.int64)
         return empty, empty
-    ra, lo, n = ra[has], lo[has], n[has]
+    at = at[has]
+    ra, lo, n = ra[has], starts[at], counts[at]
     total = int(n.sum())
     i = np.repeat(ra, n)
     j = rb[np.repeat(lo, n) + np.arange(total) - np.repeat(np.cumsum(n) - n, n)]
@@ -163,8 +194,9 @@ def box_pairs(a: np.ndarray, b: np.ndarray, cell: int,
     hit = ((ai[:, 0] < bj[:, 2]) & (bj[:, 0] < ai[:, 2])
            & (ai[:, 1] < bj[:, 3]) & (bj[:, 1] < ai[:, 3]))
     i, j = i[hit], j[hit]
-    if len(i) > 1:
-        key = np.unique(i * len(b) + j)  # a pair that shares several cells: once
+    # A pair can share several cells only if both boxes cover more than one: then once.
+    if len(i) > 1 and not b_single and len(ka) > len(a):
+        key = np.unique(i * len(b) + j)
         i, j = key // len(b), key % len(b)
     return i, j
 
@@ -180,7 +212,7 @@ class NumpyGrid:
         self.cell = cell
         self.move_buffer: list[Body] = []
         self.boxes: dict[int, Boxes] = {}
-        self._zones: dict[int, tuple[ZoneTest, np.ndarray]] = {}
+        self._zones: dict[int, tuple[ZoneTest, np.ndarray, CellIndex]] = {}
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
         buffer = self.move_buffer  # the store holds this very list: refill it, never replace
@@ -190,31 +222,38 @@ class NumpyGrid:
         self._drain(scene.tick, kinds)
 
     def _drain(self, tick: int, kinds: KindSets) -> None:
-        """Apply the move buffer: rows added and removed as it says, then the boxes of the
+        """Apply the move buffer: rows removed and added as it says, then the boxes of the
         live bodies in it written at once, kind by kind (each read as it is now, so one
         that went is in no list, and one listed twice gets the same box twice)."""
         boxes = self.boxes
         live: dict[int, list[Body]] = {}
+        gone = []
         for body in self.move_buffer:
-            kind = body.kind
+            if body.alive:
+                bodies = live.get(body.kind)
+                if bodies is None:
+                    live[body.kind] = [body]
+                else:
+                    bodies.append(body)
+            else:
+                gone.append(body)
+        self.move_buffer.clear()
+        for body in gone:
+            table = boxes.get(body.kind)
+            if table is not None and body.id in table.slot:
+                table.remove(body)
+        swept = kinds.swept
+        for kind, bodies in live.items():
             table = boxes.get(kind)
             if table is None:
                 table = boxes[kind] = Boxes()
-            if body.alive:
-                if body.id not in table.slot:
-                    table.add(body)
-                bodies = live.get(kind)
-                if bodies is None:
-                    live[kind] = [body]
-                else:
-                    bodies.append(body)
-            elif body.id in table.slot:
-                table.remove(body)
-        self.move_buffer.clear()
-        swept = kinds.swept
-        for kind, bodies in live.items():
-            table = boxes[kind]
             rows, xy, spans = _boxes(bodies, table.slot, tick, kind in swept)
+            if rows.min() < 0:  # new bodies: rows for them first
+                for k in np.flatnonzero(rows < 0).tolist():
+                    body = bodies[k]
+                    if body.id not in table.slot:
+                        table.add(body)
+                    rows[k] = table.slot[body.id]
             table.xy[rows] = xy
             table.swept_at[rows] = spans
             table.version += 1
@@ -228,11 +267,13 @@ class NumpyGrid:
         table = self.boxes.get(kind)
         if table is None or not table.n:
             return []
-        zone_xy = self._zones.get(id(zone))
-        if zone_xy is None or zone_xy[0] is not zone:
+        kept = self._zones.get(id(zone))
+        if kept is None or kept[0] is not zone:
             boxes = np.array([(x, y, x + w, y + h) for x, y, w, h in zone.zone], dtype=np.int64)
-            zone_xy = self._zones[id(zone)] = (zone, boxes.reshape(-1, 4))
-        rows, _ = box_pairs(table.xy[:table.n], zone_xy[1], ZONE_CELL)
+            boxes = boxes.reshape(-1, 4)
+            kept = self._zones[id(zone)] = (zone, boxes, _index(*_cells(boxes, ZONE_CELL),
+                                                                len(boxes)))
+        rows, _ = box_pairs(table.xy[:table.n], kept[1], ZONE_CELL, None, kept[2])
         if not len(rows):
             return []
         rows = np.unique(rows)
@@ -258,8 +299,8 @@ class NumpyGrid:
             whole_a = isinstance(a_rows, slice)
             whole_b = isinstance(b_rows, slice)
             i, j = box_pairs(table_a.xy[a_rows], table_b.xy[b_rows], self.cell,
-                             table_a.cells(self.cell, False) if whole_a else None,
-                             table_b.cells(self.cell, True) if whole_b else None)
+                             table_a.cells(self.cell) if whole_a else None,
+                             table_b.index(self.cell) if whole_b else None)
             if not len(i):
                 continue
             ida, idb = table_a.ids[a_rows][i], table_b.ids[b_rows][j]
