@@ -54,15 +54,21 @@ class Adaptive:
     def __init__(self, cell: int = DEFAULT_CELL) -> None:
         self._cell = cell
         self.move_buffer: list[Body] = []
-        self.active: BroadPhase = Grid(cell)
+        self.active: BroadPhase = self._make("grid")
         self._fresh = True  # rebuild the active one before its first query
 
     @property
     def cell(self) -> int:
         return self.active.cell
 
+    def _make(self, name: str) -> BroadPhase:
+        """A broad phase that fills its move buffer from the store's: the same list, so
+        nothing is copied from one to the other."""
+        broadphase = make_broadphase(name, self._cell)
+        broadphase.move_buffer = self.move_buffer
+        return broadphase
+
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
-        self.move_buffer.clear()
         self._choose(scene, kinds, force=True)
 
     def _choose(self, scene: Scene, kinds: KindSets, force: bool = False) -> None:
@@ -70,16 +76,11 @@ class Adaptive:
         big = self.active.name == "numpy"
         want_big = n >= NUMPY_FROM or (big and n >= NUMPY_UNTIL)
         if want_big != big:
-            self.active = make_broadphase("numpy" if want_big else "grid", self._cell)
+            self.active = self._make("numpy" if want_big else "grid")
             force = True
         if force or self._fresh:
             self._fresh = False
-            self.move_buffer.clear()
-            self.active.rebuild(scene, kinds)
-        elif self.move_buffer:
-            assert self.active.move_buffer is not None
-            self.active.move_buffer.extend(self.move_buffer)
-            self.move_buffer.clear()
+            self.active.rebuild(scene, kinds)  # from the scene itself: the buffer is moot
 
     def in_zone(self, scene: Scene, kind: int, zone: ZoneIndex, kinds: KindSets) -> list[Body]:
         self._choose(scene, kinds)
