@@ -376,7 +376,7 @@ def _xywh(body: Body, tick: int, rule: PairRule) -> tuple[int, int, int, int]:
 
 def _at(x0: int, y0: int, x1: int, y1: int, step: int, steps: int) -> tuple[int, int]:
     """A body's own position `step` substeps of `steps` into the tick."""
-    if steps == 0:
+    if steps == 0 or (x0 == x1 and y0 == y1):  # at the end, or it did not move
         return x1, y1
     return (x0 + predicates.round_div((x1 - x0) * step, steps),
             y0 + predicates.round_div((y1 - y0) * step, steps))
