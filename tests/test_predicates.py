@@ -3,8 +3,14 @@
 from __future__ import annotations
 
 import itertools
+import random
+
+import pygame
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from invaders.engine import predicates
+from invaders.engine.detector import _at
 from tests.helpers import mask
 
 
@@ -69,3 +75,41 @@ def test_swept_contact_is_the_first_substep_that_touches():
 def test_swept_box_overlap_matches_the_union_of_positions():
     assert predicates.swept_box_overlap(1, 1, 1, 4, 0, 5, 0, -12)
     assert not predicates.swept_box_overlap(1, 1, 1, 4, 1, 5, 0, -12)
+
+
+@settings(max_examples=300, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), ox=st.integers(-12, 12), oy=st.integers(-12, 12),
+       dx=st.integers(-10, 10), dy=st.integers(-10, 10), from_start=st.booleans())
+def test_swept_contact_is_the_first_touching_substep_of_the_path(seed, ox, oy, dx, dy,
+                                                               from_start):
+    """Against the definition: every substep of the path tested in turn (the swept mask
+    only shortens the search and must never change its answer)."""
+    rng = random.Random(seed)
+
+    def random_mask() -> pygame.mask.Mask:
+        w, h = rng.randrange(1, 9), rng.randrange(1, 9)
+        return mask(*("".join(rng.choice("#..") for _ in range(w)) for _ in range(h)))
+
+    fixed, moving = random_mask(), random_mask()
+    path = predicates.substeps(dx, dy)
+    steps = len(path) - 1
+    expected = None
+    for i in range(0 if from_start else 1, steps + 1):
+        hit = fixed.overlap(moving, (ox + path[i][0], oy + path[i][1]))
+        if hit is not None:
+            expected = (i, steps, hit)
+            break
+    if steps == 0:  # no motion: the one position is tested, whatever from_start says
+        hit = fixed.overlap(moving, (ox, oy))
+        expected = None if hit is None else (0, 0, hit)
+    assert predicates.first_swept_contact(fixed, moving, ox, oy, dx, dy, from_start) == expected
+
+
+def test_a_body_at_a_substep_is_its_own_motion_rounded_as_the_path_is():
+    for x0, x1, y0, y1 in itertools.product(range(-6, 7), range(-6, 7), (-3, 0, 2), (-2, 0, 3)):
+        for steps in range(0, 9):
+            for step in range(steps + 1):
+                expected = (x1, y1) if steps == 0 else (
+                    x0 + predicates.round_div((x1 - x0) * step, steps),
+                    y0 + predicates.round_div((y1 - y0) * step, steps))
+                assert _at(x0, y0, x1, y1, step, steps) == expected

@@ -326,16 +326,22 @@ class Detector:
         landed and only the time of first touch is wanted."""
         apx, apy = (a.px, a.py) if a.moved_tick == tick else (a.x, a.y)
         bpx, bpy = (b.px, b.py) if b.moved_tick == tick else (b.x, b.y)
-        ox, oy = bpx - apx, bpy - apy  # b relative to a at the tick's start
+        ox = bpx - apx  # b relative to a at the tick's start
+        oy = bpy - apy
         dx = (b.x - bpx) - (a.x - apx)
         dy = (b.y - bpy) - (a.y - apy)
         if not landed:
             # The quick test, predicates.swept_box_overlap inlined (this is the hot path):
             # b's box swept from (ox, oy) by (dx, dy) against a's box at the origin.
-            sx0 = ox + dx if dx < 0 else ox
-            sy0 = oy + dy if dy < 0 else oy
-            if not (sx0 < a.w and sx0 + b.w + abs(dx) > 0 and sy0 < a.h
-                    and sy0 + b.h + abs(dy) > 0):
+            if dx < 0:
+                sx0, sx1 = ox + dx, ox + b.w
+            else:
+                sx0, sx1 = ox, ox + b.w + dx
+            if dy < 0:
+                sy0, sy1 = oy + dy, oy + b.h
+            else:
+                sy0, sy1 = oy, oy + b.h + dy
+            if not (sx0 < a.w and sx1 > 0 and sy0 < a.h and sy1 > 0):
                 return False, None
         masked = rule.masked  # _shape_mask, inlined
         a_mask = a.mask if a.kind in masked else _solid_mask(a.w, a.h)
@@ -376,7 +382,9 @@ def _xywh(body: Body, tick: int, rule: PairRule) -> tuple[int, int, int, int]:
 
 def _at(x0: int, y0: int, x1: int, y1: int, step: int, steps: int) -> tuple[int, int]:
     """A body's own position `step` substeps of `steps` into the tick."""
-    if steps == 0 or (x0 == x1 and y0 == y1):  # at the end, or it did not move
+    if steps == 0 or step == steps or (x0 == x1 and y0 == y1):  # at the end, or it stayed
         return x1, y1
-    return (x0 + predicates.round_div((x1 - x0) * step, steps),
-            y0 + predicates.round_div((y1 - y0) * step, steps))
+    # x0 + (x1 - x0) * step / steps on each axis, rounded as predicates.round_div rounds.
+    nx, ny, den = (x1 - x0) * step * 2, (y1 - y0) * step * 2, steps * 2
+    return (x0 + ((nx + steps) // den if nx >= 0 else -((steps - nx) // den)),
+            y0 + ((ny + steps) // den if ny >= 0 else -((steps - ny) // den)))

@@ -102,16 +102,17 @@ def first_swept_contact(
     Returns (step, steps, pixel in fixed's coordinates), or None. One test of the swept
     mask answers most calls; only a hit walks the substeps to find the first.
     """
-    steps = max(abs(dx), abs(dy))
+    ax, ay = (dx if dx >= 0 else -dx), (dy if dy >= 0 else -dy)
+    steps = ax if ax >= ay else ay
     if steps == 0:
         hit = fixed.overlap(moving, (ox, oy))
         return None if hit is None else (0, 0, hit)
-    swept = swept_mask(moving, dx, dy)
-    if fixed.overlap(swept, (ox + min(0, dx), oy + min(0, dy))) is None:
+    kept = _swept_cache.get((id(moving), dx, dy))  # swept_mask's cache, looked at here
+    swept = kept[1] if kept is not None and kept[0] is moving else swept_mask(moving, dx, dy)
+    if fixed.overlap(swept, (ox + dx if dx < 0 else ox, oy + dy if dy < 0 else oy)) is None:
         return None
-    first = 0 if from_start else 1
     path = substeps(dx, dy)
-    for i in range(first, steps + 1):
+    for i in range(0 if from_start else 1, steps + 1):
         sx, sy = path[i]
         hit = fixed.overlap(moving, (ox + sx, oy + sy))
         if hit is not None:
