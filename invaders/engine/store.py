@@ -123,18 +123,17 @@ class BodyStore:
         return self.size
 
 
-_gains: dict[tuple[int, int], tuple[pygame.mask.Mask, pygame.mask.Mask, bool]] = {}
+_gains: dict[tuple[pygame.mask.Mask, pygame.mask.Mask], bool] = {}
 
 
 def gains_pixels(old: pygame.mask.Mask, new: pygame.mask.Mask) -> bool:
     """Whether `new`, placed where `old` was, lights a pixel `old` does not. Cached per
-    pair of mask objects (pictures are shared), holding both so ids are not reused."""
-    key = (id(old), id(new))
-    hit = _gains.get(key)
-    if hit is not None and hit[0] is old and hit[1] is new:
-        return hit[2]
-    gained = new.overlap_area(old, (0, 0)) < new.count()
-    if len(_gains) > 4096:
-        _gains.clear()
-    _gains[key] = (old, new, gained)
+    pair of mask objects (pictures are shared): keyed on the masks themselves, which hash
+    by identity, so the key holds them and an id is never reused."""
+    gained = _gains.get((old, new))
+    if gained is None:
+        gained = new.overlap_area(old, (0, 0)) < new.count()
+        if len(_gains) > 4096:
+            _gains.clear()
+        _gains[(old, new)] = gained
     return gained
