@@ -128,7 +128,7 @@ def test_an_internal_error_is_one_line_and_exit_3_and_debug_shows_it(capsys, mon
     def broken(args) -> int:
         raise RuntimeError("a\nbug")
 
-    monkeypatch.setitem(cli.COMMANDS, "run", broken)
+    monkeypatch.setitem(cli.COMMANDS, "run", cli.COMMANDS["run"]._replace(run=broken))
     assert main(["run"]) == 3
     err = capsys.readouterr().err
     assert err.startswith("invaders: internal error: RuntimeError: a bug")

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Sequence
-from typing import NoReturn
+from collections.abc import Callable, Sequence
+from typing import NamedTuple, NoReturn
 
 from invaders import __version__
 from invaders.engine.detector import BROADPHASES
@@ -82,9 +82,9 @@ def build_parser(command: str | None = None) -> Parser:
     parser.add_argument("--version", action="version", version=f"invaders {__version__}")
     sub = parser.add_subparsers(dest="command", parser_class=Parser)
 
-    for name, add in COMMAND_PARSERS.items():
+    for name, entry in COMMANDS.items():
         if command in (None, name):
-            add(sub)
+            entry.add_parser(sub)
     return parser
 
 
@@ -163,10 +163,6 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
                             "broad phase, the automatic choice and pymunk")
     bench.add_argument("--rounds", type=_int_in("--rounds", 3, 100), default=10,
                        help="interleaved rounds; figures are medians over them")
-
-
-COMMAND_PARSERS = {"play": _add_play, "run": _add_run, "replay": _add_replay,
-                   "study": _add_study, "bench": _add_bench}
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -345,8 +341,16 @@ def cmd_study(args: argparse.Namespace) -> int:
                  big=args.big)
 
 
-COMMANDS = {"run": cmd_run, "play": cmd_play, "bench": cmd_bench, "replay": cmd_replay,
-            "study": cmd_study}
+class Command(NamedTuple):
+    """A command: how its parser is built (only the one a run asks for), and its body."""
+
+    add_parser: Callable[[argparse._SubParsersAction], None]
+    run: Callable[[argparse.Namespace], int]
+
+
+COMMANDS = {"play": Command(_add_play, cmd_play), "run": Command(_add_run, cmd_run),
+            "replay": Command(_add_replay, cmd_replay), "study": Command(_add_study, cmd_study),
+            "bench": Command(_add_bench, cmd_bench)}  # in the order `--help` lists them
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -363,7 +367,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = build_parser(argv[0] if argv and argv[0] in COMMANDS else None).parse_args(argv)
         if args.command is None:
             args = build_parser().parse_args(["play", *argv])
-        return COMMANDS[args.command](args)
+        return COMMANDS[args.command].run(args)
     except (UsageError, OutputError) as err:
         print(f"invaders: error: {err}", file=sys.stderr)
         return 2
