@@ -42,8 +42,9 @@ class BroadPhase(Protocol):
         """Start again from every body of the scene."""
         ...
 
-    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> list[Pair]:
-        """Candidate pairs (low id first), sorted by (low id, high id)."""
+    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> Sequence[Pair]:
+        """Candidate pairs (low id first), sorted by (low id, high id). Read only: a broad
+        phase may hand out the same answer again."""
         ...
 
 

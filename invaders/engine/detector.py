@@ -89,7 +89,7 @@ class Adaptive:
             return in_zone(scene, kind, zone, kinds)
         return _tested_in_zone(scene, kind, zone, kinds)
 
-    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> list[Pair]:
+    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> Sequence[Pair]:
         self._choose(scene, kinds)
         return self.active.pairs(scene, groups, kinds)
 
@@ -219,7 +219,7 @@ class Detector:
         if zoned:
             groups, in_zones = self._with_zones(store, groups, zoned)
             allowed += in_zones
-        pairs = broadphase.pairs(store, groups, self.kinds) if groups else []
+        pairs = broadphase.pairs(store, groups, self.kinds) if groups else ()
         if not pairs:  # the usual tick at game scale: the same counters as last time
             contacts: list[Contact] = []
             stats = self._quiet.get((n, allowed))

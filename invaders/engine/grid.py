@@ -44,7 +44,7 @@ class Grid:
         self.ranges: dict[int, CellRange] = {}  # every live body's, binned or not
         self.rebins = 0  # how many times a body changed cells (for the study and tests)
         self.version = 0  # moves whenever a body's range does, or a body comes or goes
-        self._last: tuple[int, Sequence[Group], list[Pair]] | None = None  # the last answer
+        self._last: tuple[int, Sequence[Group], tuple[Pair, ...]] | None = None  # last answer
 
     # --- keeping the cells in step with the store --------------------------------------------
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
@@ -155,16 +155,17 @@ class Grid:
                     del rows[cy]
 
     # --- queries ---------------------------------------------------------------------------
-    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> list[Pair]:
+    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> tuple[Pair, ...]:
         """The candidates: a function of the cell ranges and the groups only, so while no
-        range changed (the version) the same groups get last query's answer again."""
+        range changed (the version) the same groups get last query's answer again (a
+        tuple, so it can be handed out as it is)."""
         if self.move_buffer:
             self._drain(scene.tick, kinds)
         last = self._last
         if last is not None and last[0] == self.version and last[1] is groups:
-            return last[2][:] if last[2] else []
-        out = self._query(groups, kinds)
-        self._last = (self.version, groups, out[:])
+            return last[2]
+        out = tuple(self._query(groups, kinds))
+        self._last = (self.version, groups, out)
         return out
 
     def _query(self, groups: Sequence[Group], kinds: KindSets) -> list[Pair]:
