@@ -35,9 +35,9 @@ QuickTest = Callable[[tuple[int, int, int, int], tuple[int, int, int, int]], boo
 BROADPHASES = ("grid", "brute", "sweep", "numpy", "auto")
 # Bodies from which the numpy broad phase beats the grid, as measured on storms on a 2-core
 # machine (ms of detection a tick, grid then numpy): `invaders study` (docs/study/
-# scaling.csv) 1,000 bodies 2.0 and 2.2, 3,000 6.8 and 4.7, 10,000 24.7 and 13.1;
-# `invaders bench --big` 1,000 1.94 and 2.14, 10,000 24.2 and 11.9. The crossing lies
-# between 1,000 and 3,000.
+# scaling.csv) 300 bodies 0.66 and 1.33, 1,000 1.95 and 1.92, 3,000 6.59 and 4.13, 10,000
+# 22.3 and 10.3; `invaders bench --big` 1,000 1.86 and 1.94, 10,000 25.7 and 10.0. At
+# 1,000 the two are even and at 3,000 numpy is well ahead: the switch sits between.
 NUMPY_FROM = 2000
 NUMPY_UNTIL = 1500  # below this an automatic choice goes back to the grid (no flapping)
 SWEPT, LANDING = Motion.SWEPT, Motion.LANDING  # an enum member by name costs a slow look-up
