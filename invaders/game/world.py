@@ -162,7 +162,8 @@ class World:
         fire_down = bool(actions & FIRE)
         fire_pressed = fire_down and not self.fire_was_down
         self.fire_was_down = fire_down
-        self._age_explosions()
+        if self.explosions:
+            self._age_explosions()
         if self.phase is PLAYING:
             self._move(actions, fire_pressed)
         elif self.phase is WAVE_END:
@@ -182,7 +183,8 @@ class World:
         store = self.store
         contacts, stats = self.detector.detect(store)
         applied = respond(contacts, store.by_id, self) if contacts else ()
-        self._settle()
+        if not self.rack.live:
+            self._settle()
         broadphase = self.detector.broadphase
         report = TickReport(store.tick, stats, tuple(self.events), tuple(applied),
                             broadphase.name, broadphase.cell)
@@ -332,10 +334,9 @@ class World:
             saucer.fly(state, self.store, self.config)
 
     def _age_explosions(self) -> None:
-        if self.explosions:
-            for explosion in self.explosions:
-                explosion.ttl -= 1
-            self.explosions = [e for e in self.explosions if e.ttl > 0]
+        for explosion in self.explosions:
+            explosion.ttl -= 1
+        self.explosions = [e for e in self.explosions if e.ttl > 0]
 
     # --- state the rules ask about ---------------------------------------------------------
     @property
@@ -430,8 +431,8 @@ class World:
                 self.erosions += 1
 
     def _settle(self) -> None:
-        """After response: wave end."""
-        if self.phase is PLAYING and self.rack.live == 0:
+        """After response, with the rack empty: the wave ends."""
+        if self.phase is PLAYING:
             self.phase = WAVE_END
             self.phase_timer = self.config.timing.wave_pause
             self.events.append(Event.WAVE_CLEARED)
