@@ -4,9 +4,10 @@ sorting, and a vectorised box test so only real candidates reach the pixel tests
 Each kind's boxes live in arrays (x0, y0, x1, y1, half-open), changed only for the bodies
 the store put in the move buffer: a swept kind's box covers its motion over the tick, and
 a body that stopped keeps that larger box until it next changes (a superset, as in the
-grid). For a group, the boxes of both sides are hashed into the cells they cover, the cell
-keys are joined by a sort and two `searchsorted` calls, and the pairs sharing a cell are
-kept only if their boxes overlap; a pair sharing several cells is kept once. The fixed
+grid). For a group, the boxes of both sides are hashed into the cells they cover, one
+side's keys are looked up with `searchsorted` in an index of the other's distinct keys
+(kept while that kind does not move), and the pairs sharing a cell are kept only if their
+boxes overlap; a pair sharing several cells is kept once. The fixed
 cost is a few dozen numpy calls a group, so it pays only in big scenes (see
 `detector.NUMPY_FROM`); its pairs are those brute force would test whose boxes overlap,
 so the contacts are the same as with every other broad phase.
@@ -48,7 +49,7 @@ class Boxes:
         self.objects = np.empty(64, dtype=object)  # the body of each row, picked in bulk
         self.swept_at = np.full(64, -1, dtype=np.int64)  # tick a row's box spans a motion
         self.version = 0  # changes whenever a row does: cells worked out before are stale
-        self._cells: dict[tuple[int, bool], tuple[int, tuple]] = {}
+        self._kept: dict[tuple[str, int], tuple[int, tuple]] = {}  # (what, cell): (version, it)
 
     @property
     def bodies(self) -> list[Body]:
@@ -58,20 +59,20 @@ class Boxes:
     def cells(self, cell: int) -> tuple[np.ndarray, np.ndarray]:
         """(cell key, row) of every cell each box covers; kept until a row changes, so a
         kind that does not move is hashed once."""
-        kept = self._cells.get((cell, False))
+        kept = self._kept.get(("cells", cell))
         if kept is not None and kept[0] == self.version:
             return kept[1]
         found = _cells(self.xy[:self.n], cell)
-        self._cells[(cell, False)] = (self.version, found)
+        self._kept[("cells", cell)] = (self.version, found)
         return found
 
     def index(self, cell: int) -> CellIndex:
         """The cells as an index to look keys up in (`_index`); kept as `cells` is."""
-        kept = self._cells.get((cell, True))
+        kept = self._kept.get(("index", cell))
         if kept is not None and kept[0] == self.version:
             return kept[1]
         found = _index(*self.cells(cell), self.n)
-        self._cells[(cell, True)] = (self.version, found)
+        self._kept[("index", cell)] = (self.version, found)
         return found
 
     def add(self, body: Body) -> None:
