@@ -62,16 +62,17 @@ def round_div(num: int, den: int) -> int:
     return -((-2 * num + den) // (2 * den))
 
 
-_swept_cache: dict[tuple[int, int, int], tuple[pygame.mask.Mask, pygame.mask.Mask]] = {}
+_swept_cache: dict[tuple[pygame.mask.Mask, int, int], pygame.mask.Mask] = {}
 
 
 def swept_mask(mask: pygame.mask.Mask, dx: int, dy: int) -> pygame.mask.Mask:
     """The union of `mask` placed at every substep of (dx, dy), with its corner at
-    (min(0, dx), min(0, dy)). Cached: only ever pass shared (never-eroded) masks."""
-    key = (id(mask), dx, dy)
-    hit = _swept_cache.get(key)
-    if hit is not None and hit[0] is mask:
-        return hit[1]
+    (min(0, dx), min(0, dy)). Cached: only ever pass shared (never-eroded) masks. Keyed on
+    the mask itself (masks hash by identity), so the key holds it and an id is never
+    reused."""
+    swept = _swept_cache.get((mask, dx, dy))
+    if swept is not None:
+        return swept
     w, h = mask.get_size()
     ox, oy = min(0, dx), min(0, dy)
     swept = pygame.mask.Mask((w + abs(dx), h + abs(dy)))
@@ -79,7 +80,7 @@ def swept_mask(mask: pygame.mask.Mask, dx: int, dy: int) -> pygame.mask.Mask:
         swept.draw(mask, (sx - ox, sy - oy))
     if len(_swept_cache) > 4096:
         _swept_cache.clear()
-    _swept_cache[key] = (mask, swept)
+    _swept_cache[(mask, dx, dy)] = swept
     return swept
 
 
@@ -107,8 +108,7 @@ def first_swept_contact(
     if steps == 0:
         hit = fixed.overlap(moving, (ox, oy))
         return None if hit is None else (0, 0, hit)
-    kept = _swept_cache.get((id(moving), dx, dy))  # swept_mask's cache, looked at here
-    swept = kept[1] if kept is not None and kept[0] is moving else swept_mask(moving, dx, dy)
+    swept = swept_mask(moving, dx, dy)
     if fixed.overlap(swept, (ox + dx if dx < 0 else ox, oy + dy if dy < 0 else oy)) is None:
         return None
     path = substeps(dx, dy)
