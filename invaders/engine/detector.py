@@ -384,7 +384,5 @@ def _at(x0: int, y0: int, x1: int, y1: int, step: int, steps: int) -> tuple[int,
     """A body's own position `step` substeps of `steps` into the tick."""
     if steps == 0 or step == steps or (x0 == x1 and y0 == y1):  # at the end, or it stayed
         return x1, y1
-    # x0 + (x1 - x0) * step / steps on each axis, rounded as predicates.round_div rounds.
-    nx, ny, den = (x1 - x0) * step * 2, (y1 - y0) * step * 2, steps * 2
-    return (x0 + ((nx + steps) // den if nx >= 0 else -((steps - nx) // den)),
-            y0 + ((ny + steps) // den if ny >= 0 else -((steps - ny) // den)))
+    return (x0 + predicates.round_div((x1 - x0) * step, steps),
+            y0 + predicates.round_div((y1 - y0) * step, steps))
