@@ -45,9 +45,8 @@ def reset_slots(slots: list[BombSlot], store: BodyStore) -> None:
 
 def reload_ready(slots: list[BombSlot], me: BombSlot, steps_needed: int) -> bool:
     """A type may fire only if every *other* busy bomb has made more than R steps."""
-    for other in slots:  # a loop, not all(), and `busy` inlined: this is asked every tick
-        if (other is not me and (other.bomb is not None or other.burst > 0)
-                and other.steps <= steps_needed):
+    for other in slots:  # a loop, not all(): this is asked every tick
+        if other is not me and other.busy and other.steps <= steps_needed:
             return False
     return True
 
