@@ -130,7 +130,8 @@ class Grid:
                 rows[cy] = rows.get(cy, 0) + added
 
     def _unbin(self, body: Body, r: CellRange, keep: CellRange = NONE) -> None:
-        """Take the body out of the cells of range r but those of `keep`."""
+        """Take the body out of the cells of range r but those of `keep`. (It walks the
+        cells as `_bin` does, written out in both: a shared walk doubled a re-bin's cost.)"""
         layer = self.layers[body.kind]
         rows = self.rows[body.kind]
         stride = self.STRIDE
