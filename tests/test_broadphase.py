@@ -151,9 +151,9 @@ def test_a_body_spanning_many_cells_is_reported_once():
     assert [(c.a_id, c.b_id) for c in contacts] == [(1, 2)]
 
 
-def test_the_grid_answers_from_its_last_look_only_while_no_cell_range_changes():
-    """Candidates depend on cell ranges alone: a move inside a cell reuses the last answer
-    (and the exact tests still see the new places); a move across a cell edge looks again."""
+def _two_blocks(probe_at: tuple[int, int], target_at: tuple[int, int]):
+    """A store of two 4x4 blocks, kind 1 probing kind 2 by boxes, and a 32-px grid:
+    (store, grid, detector, probe, target)."""
     from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
     from invaders.engine.store import BodyStore
 
@@ -162,9 +162,16 @@ def test_the_grid_answers_from_its_last_look_only_while_no_cell_range_changes():
     grid = Grid(32)
     detector = Detector(grid, rules)
     block = art.mask_of(("####",) * 4)
-    probe, target = Body(1, 1, 0, 0, block), Body(2, 2, 20, 20, block)
+    probe, target = Body(1, 1, *probe_at, block), Body(2, 2, *target_at, block)
     store.add(probe)
     store.add(target)
+    return store, grid, detector, probe, target
+
+
+def test_the_grid_answers_from_its_last_look_only_while_no_cell_range_changes():
+    """Candidates depend on cell ranges alone: a move inside a cell reuses the last answer
+    (and the exact tests still see the new places); a move across a cell edge looks again."""
+    store, grid, detector, probe, _ = _two_blocks((0, 0), (20, 20))
     looks = []
     query = grid._query
     grid._query = lambda *args: looks.append(store.tick) or query(*args)
@@ -184,6 +191,27 @@ def test_the_grid_answers_from_its_last_look_only_while_no_cell_range_changes():
     assert looks == [0, 3]
     assert tick(20, 20) == (1, [(1, 2)])  # back: looked again
     assert looks == [0, 3, 4]
+
+
+def test_a_body_crossing_a_cell_edge_is_re_binned_once_and_keeps_the_cells_it_entered():
+    """Entering the next cell re-bins (the box spans both); moving on inside the range it
+    has keeps it, a superset the exact tests see through; leaving it re-bins again."""
+    store, grid, detector, _, mover = _two_blocks((2, 2), (26, 2))
+    detector.detect(store)
+    seen = []
+    for x in (30, 34, 58, 62, 66):
+        store.tick += 1
+        store.move(mover, x, 2)
+        contacts, stats = detector.detect(store)
+        seen.append((grid.ranges[mover.id], grid.rebins, stats.candidates, len(contacts)))
+    assert seen == [
+        ((0, 0, 1, 0), 2, 1, 0),  # 30..33: spans cells 0 and 1, re-binned (the first bin is 1)
+        ((0, 0, 1, 0), 2, 1, 0),  # 34..37: inside cell 1, keeps cell 0 too: still a candidate
+        ((0, 0, 1, 0), 2, 1, 0),  # 58..61
+        ((1, 0, 2, 0), 3, 0, 0),  # 62..65: enters cell 2, leaves cell 0: re-binned once
+        ((1, 0, 2, 0), 3, 0, 0),  # 66..69: inside cell 2
+    ]
+    assert set(grid.layers[2]) == {1, 2}  # binned in cells 1 and 2 of row 0
 
 
 @settings(max_examples=80, deadline=None)

@@ -2,7 +2,8 @@
 
 Each body is binned into the cells its box covers; a body spanning several cells is reported
 once. Only the bodies the store put in the move buffer since the last query are re-binned,
-and only when their cell range changed; kinds that are never looked up are never binned.
+and only when their box left the cells they are binned in; kinds that are never looked up
+are never binned.
 While no range changed, a query with the same groups gets the last answer without a look.
 """
 
@@ -25,8 +26,10 @@ class Grid:
     never binned, so moving one costs only working out its range.
 
     Swept kinds are binned by the union of their boxes at the start and end of the tick. A
-    body that stopped moving keeps its larger range until it next changes: a superset, which
-    is safe, and saves re-binning every resting body every tick.
+    body keeps its range while its box stays inside it (a body that stopped keeps the range
+    of its last motion; one that moves on keeps the cells it is entering): a superset, which
+    is safe. So a body crossing a cell edge is re-binned once, not on entering and again on
+    leaving, and the last answer stands more often.
     """
 
     name = "grid"
@@ -59,8 +62,9 @@ class Grid:
 
     def _drain(self, tick: int, kinds: KindSets) -> None:
         """Apply the move buffer: what was added, moved, reshaped or removed. Every body's
-        cell range is kept (a probe's too, so a query need not work it out); only bodies of
-        probed kinds are binned. The version moves when any range does."""
+        cell range is kept (a probe's too, so a query need not work it out), and changed
+        only when its box leaves it; only bodies of probed kinds are binned. The version
+        moves when any range does."""
         swept, probed = kinds
         ranges = self.ranges
         c = self.cell
@@ -90,9 +94,14 @@ class Grid:
                     y0 = py
                 elif py + body.h > y1:
                     y1 = py + body.h
-            new = (x0 // c, y0 // c, (x1 - 1) // c, (y1 - 1) // c)
-            if new == old:
-                continue
+            cx0 = x0 // c
+            cy0 = y0 // c
+            cx1 = (x1 - 1) // c
+            cy1 = (y1 - 1) // c
+            if old is not None and (old[0] <= cx0 and old[1] <= cy0 and cx1 <= old[2]
+                                    and cy1 <= old[3]):
+                continue  # inside the range it has: keep that (a superset is safe)
+            new = (cx0, cy0, cx1, cy1)
             if body.kind in probed:
                 if old is None:
                     self._bin(body, new)
