@@ -177,9 +177,15 @@ class Detector:
         self._table = tuple((rule, rule.a, rule.b, None if rule.zone is None
                              else ZoneIndex(rule.zone)) for rule in rules)
         self._plans: dict[int, tuple] = {}  # kinds present (bit mask) -> groups that apply
+        # What holds until a body comes or goes (the store's membership moves): the plan,
+        # the pairs its zone-less groups allow, and the counters of a tick with no pairs.
         self._planned_for: BodyStore | None = None
-        self._allowed: tuple[int, int] | None = None  # (store membership, pairs allowed)
-        self._quiet: dict[tuple[int, int], CollisionStats] = {}  # counters of empty ticks
+        self._membership = 0  # the store's membership when planned
+        self._groups: list[Group] = []
+        self._zoned: list[tuple[int, PairRule, ZoneIndex]] = []
+        self._allowed = 0
+        self._quiet = CollisionStats()
+        self._quiet_zoned: dict[tuple[int, int], CollisionStats] = {}  # with zones, by count
         # A broad phase may find the bodies in a zone faster than testing each one.
         self._in_zone = getattr(broadphase, "in_zone", None) or _tested_in_zone
 
@@ -195,44 +201,25 @@ class Detector:
         if observers:
             for observer in reversed(observers):
                 observer.before(store)
-        tick = store.tick
-        n = store.size
-        if store is not self._planned_for:  # plans hold a store's own lists of bodies
-            self._plans.clear()
-            self._planned_for = store
-            self._allowed = None
-        present = store.present
-        plan = self._plans.get(present)
-        if plan is None:
-            plan = self._plans[present] = self._plan(store)
-        groups, zoned = plan
-        # Pairs the rules allow in the zone-less groups: they change only when a body comes
-        # or goes (which is also the only way the kinds present change), so they are
-        # counted again only then.
-        counted = self._allowed
-        if counted is None or counted[0] != store.membership:
-            allowed = 0
-            for _, side_a, side_b in groups:
-                allowed += len(side_a) * len(side_b)
-            self._allowed = counted = (store.membership, allowed)
-        allowed = counted[1]
+        if store.membership != self._membership or store is not self._planned_for:
+            self._replan(store)
+        groups = self._groups
+        allowed = self._allowed
+        zoned = self._zoned
         if zoned:
             groups, in_zones = self._with_zones(store, groups, zoned)
             allowed += in_zones
         pairs = broadphase.pairs(store, groups, self.kinds) if groups else ()
         if not pairs:  # the usual tick at game scale: the same counters as last time
             contacts: list[Contact] = []
-            stats = self._quiet.get((n, allowed))
-            if stats is None:
-                if len(self._quiet) > 255:
-                    self._quiet.clear()
-                stats = self._quiet[(n, allowed)] = CollisionStats(
-                    n, n * (n - 1) // 2, allowed, 0, 0, 0, 0, 0, 0, 0)
+            stats = self._quiet if not zoned else self._quiet_counters(store.size, allowed)
             if observers:
                 for observer in observers:
                     observer.after(store, pairs, contacts, stats)
             return contacts, stats
 
+        tick = store.tick
+        n = store.size
         quick = self.quick
         contacts = []
         rect_tests = rect_hits = mask_tests = mask_hits = swept_tests = 0
@@ -279,6 +266,31 @@ class Detector:
             for observer in observers:
                 observer.after(store, pairs, contacts, stats)
         return contacts, stats
+
+    def _replan(self, store: BodyStore) -> None:
+        """A body came or went: the plan for the kinds present now (kept per set of kinds,
+        for the store it was made for), the pairs its zone-less groups allow, and the
+        counters of a tick that finds no pairs."""
+        if self._planned_for is not store:  # plans hold a store's own lists of bodies
+            self._plans.clear()
+            self._planned_for = store
+        self._membership = store.membership
+        plan = self._plans.get(store.present)
+        if plan is None:
+            plan = self._plans[store.present] = self._plan(store)
+        self._groups, self._zoned = plan
+        self._allowed = sum(len(side_a) * len(side_b) for _, side_a, side_b in self._groups)
+        self._quiet = self._quiet_counters(store.size, self._allowed)
+
+    def _quiet_counters(self, n: int, allowed: int) -> CollisionStats:
+        """The counters of a tick with no candidate pair (kept: most ticks are one)."""
+        stats = self._quiet_zoned.get((n, allowed))
+        if stats is None:
+            if len(self._quiet_zoned) > 255:
+                self._quiet_zoned.clear()
+            stats = self._quiet_zoned[(n, allowed)] = CollisionStats(
+                n, n * (n - 1) // 2, allowed, 0, 0, 0, 0, 0, 0, 0)
+        return stats
 
     def _plan(self, store: BodyStore
               ) -> tuple[list[Group], list[tuple[int, PairRule, ZoneIndex]]]:
