@@ -45,6 +45,7 @@ class Grid:
         # empty in the other layer skips its cells at the cost of one look-up per row.
         self.rows: dict[int, dict[int, int]] = {}
         self.ranges: dict[int, CellRange] = {}  # every live body's, binned or not
+        self.bounds: dict[int, CellRange] = {}  # the same in px (x0, y0, x1, y1, half-open)
         self.rebins = 0  # how many times a body changed cells (for the study and tests)
         self.version = 0  # moves whenever a body's range does, or a body comes or goes
         self._last: tuple[int, Sequence[Group], tuple[Pair, ...]] | None = None  # last answer
@@ -56,6 +57,7 @@ class Grid:
         self.layers = {kind: {} for kind in scene.by_kind}
         self.rows = {kind: {} for kind in scene.by_kind}
         self.ranges = {}
+        self.bounds = {}
         self.move_buffer.extend(body for bodies in scene.by_kind.values() for body in bodies)
         self._drain(scene.tick, kinds)
         self.version += 1
@@ -67,18 +69,20 @@ class Grid:
         moves when any range does."""
         swept, probed = kinds
         ranges = self.ranges
+        bounds = self.bounds
         c = self.cell
         changed = False
         for body in self.move_buffer:
-            old = ranges.get(body.id)
+            edges = bounds.get(body.id)
             if not body.alive:
-                if old is not None:
+                if edges is not None:
                     if body.kind in probed:
-                        self._unbin(body, old)
+                        self._unbin(body, ranges[body.id])
                     del ranges[body.id]
+                    del bounds[body.id]
                     changed = True
                 continue
-            # The cells of its box over the tick (body.tick_box), inlined: the hot path.
+            # Its box over the tick (body.tick_box), inlined: the hot path.
             x0 = body.x
             y0 = body.y
             x1 = x0 + body.w
@@ -94,22 +98,24 @@ class Grid:
                     y0 = py
                 elif py + body.h > y1:
                     y1 = py + body.h
+            if edges is not None and (edges[0] <= x0 and edges[1] <= y0 and x1 <= edges[2]
+                                      and y1 <= edges[3]):
+                continue  # inside the cells it has: keep them (a superset is safe)
             cx0 = x0 // c
             cy0 = y0 // c
             cx1 = (x1 - 1) // c
             cy1 = (y1 - 1) // c
-            if old is not None and (old[0] <= cx0 and old[1] <= cy0 and cx1 <= old[2]
-                                    and cy1 <= old[3]):
-                continue  # inside the range it has: keep that (a superset is safe)
             new = (cx0, cy0, cx1, cy1)
             if body.kind in probed:
-                if old is None:
+                if edges is None:
                     self._bin(body, new)
                 else:
+                    old = ranges[body.id]
                     self._unbin(body, old, new)
                     self._bin(body, new, old)
                 self.rebins += 1
             ranges[body.id] = new
+            bounds[body.id] = (cx0 * c, cy0 * c, (cx1 + 1) * c, (cy1 + 1) * c)
             changed = True
         self.move_buffer.clear()
         if changed:
