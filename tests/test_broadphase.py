@@ -240,3 +240,14 @@ def test_numpy_box_pairs_are_the_overlapping_boxes_each_once(seed, cell, a_size,
                 if a[p, 0] < b[q, 2] and b[q, 0] < a[p, 2]
                 and a[p, 1] < b[q, 3] and b[q, 1] < a[p, 3]]
     assert sorted(found) == expected
+
+
+@settings(max_examples=60, deadline=None)
+@given(values=st.lists(st.integers(-(2**40), 2**40), max_size=60), repeats=st.integers(1, 3))
+def test_distinct_is_numpys_unique(values, repeats):
+    import numpy as np
+
+    from invaders.engine.numpy_grid import distinct
+
+    array = np.array(values * repeats, dtype=np.int64)
+    assert distinct(array).tolist() == np.unique(array).tolist()
