@@ -214,6 +214,29 @@ def test_a_body_crossing_a_cell_edge_is_re_binned_once_and_keeps_the_cells_it_en
     assert set(grid.layers[2]) == {1, 2}  # binned in cells 1 and 2 of row 0
 
 
+def test_a_probe_keeps_a_larger_range_only_while_few_bodies_move():
+    """A probe is never binned: its larger range spares only a look, so with many bodies
+    moving (the grid looks anyway) it gets the exact range back."""
+    from invaders.engine.grid import FEW_MOVES
+
+    for others in (0, FEW_MOVES):
+        store, grid, detector, probe, _ = _two_blocks((26, 2), (200, 200))
+        crowd = [Body(10 + k, 1, 100 + 8 * k, 100, probe.mask) for k in range(others)]
+        for body in crowd:
+            store.add(body)
+        detector.detect(store)
+        ranges = []
+        for x in (30, 34):
+            store.tick += 1
+            store.move(probe, x, 2)
+            for body in crowd:
+                store.move(body, body.x, body.y + 1)
+            detector.detect(store)
+            ranges.append(grid.ranges[probe.id])
+        kept = (0, 0, 1, 0) if others == 0 else (1, 0, 1, 0)
+        assert ranges == [(0, 0, 1, 0), kept]
+
+
 @settings(max_examples=80, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1), cell=st.sampled_from([3, 8, 32]),
        a_size=st.integers(1, 40), b_size=st.integers(1, 40))
