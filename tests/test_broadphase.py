@@ -194,8 +194,9 @@ def test_the_grid_answers_from_its_last_look_only_while_no_cell_range_changes():
 
 
 def test_a_body_crossing_a_cell_edge_is_re_binned_once_and_keeps_the_cells_it_entered():
-    """Entering the next cell re-bins (the box spans both); moving on inside the range it
-    has keeps it, a superset the exact tests see through; leaving it re-bins again."""
+    """While few bodies move: entering the next cell re-bins (the box spans both); moving
+    on inside the range it has keeps it, a superset the exact tests see through; leaving it
+    re-bins again."""
     store, grid, detector, _, mover = _two_blocks((2, 2), (26, 2))
     detector.detect(store)
     seen = []
@@ -214,9 +215,9 @@ def test_a_body_crossing_a_cell_edge_is_re_binned_once_and_keeps_the_cells_it_en
     assert set(grid.layers[2]) == {1, 2}  # binned in cells 1 and 2 of row 0
 
 
-def test_a_probe_keeps_a_larger_range_only_while_few_bodies_move():
-    """A probe is never binned: its larger range spares only a look, so with many bodies
-    moving (the grid looks anyway) it gets the exact range back."""
+def test_a_body_keeps_a_larger_range_only_while_few_bodies_move():
+    """A larger range spares a re-bin and a look; with many bodies moving the grid looks
+    anyway, so a body (here a probe) gets its exact range back."""
     from invaders.engine.grid import FEW_MOVES
 
     for others in (0, FEW_MOVES):

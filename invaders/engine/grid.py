@@ -15,7 +15,7 @@ from invaders.engine.body import Body
 from invaders.engine.broadphase import Group, KindSets, Pair, Scene, ordered, pair_key
 
 DEFAULT_CELL = 32  # px; `invaders study` finds 16 to 64 px within a few percent at game scale
-FEW_MOVES = 8  # bodies in the move buffer up to which a probe keeps a larger range
+FEW_MOVES = 8  # bodies in the move buffer up to which a body keeps a larger range
 CellRange = tuple[int, int, int, int]
 NONE: CellRange = (1, 1, 0, 0)  # a range of no cells
 
@@ -27,12 +27,12 @@ class Grid:
     never binned, so moving one costs only working out its range.
 
     Swept kinds are binned by the union of their boxes at the start and end of the tick. A
-    binned body keeps its range while its box stays inside it (a body that stopped keeps the
-    range of its last motion; one that moves on keeps the cells it is entering): a superset,
-    which is safe. So a body crossing a cell edge is re-binned once, not on entering and
-    again on leaving. A probe keeps a larger range only while few bodies move, when it lets
-    the last answer stand; in a storm the grid looks every tick anyway, and the larger
-    ranges of thousands of shots would only add candidates (a quarter more at 10,000).
+    body that stopped keeps the range of its last motion until it next changes. While few
+    bodies move, a body also keeps its range while its box stays inside it (one that moves
+    on keeps the cells it is entering): a superset, which is safe, so crossing a cell edge
+    re-bins once, not on entering and again on leaving, and the last answer stands more
+    often. When many move (a storm) the grid looks every tick anyway, and larger ranges
+    would only add candidates (a quarter more at 10,000 bodies), so ranges stay exact.
     """
 
     name = "grid"
@@ -67,17 +67,17 @@ class Grid:
 
     def _drain(self, tick: int, kinds: KindSets) -> None:
         """Apply the move buffer: what was added, moved, reshaped or removed. Every body's
-        cell range is kept (a probe's too, so a query need not work it out), and changed
-        only when its box leaves it; only bodies of probed kinds are binned. The version
-        moves when any range does."""
+        cell range is kept (a probe's too, so a query need not work it out), and while few
+        bodies move changed only when its box leaves it; only bodies of probed kinds are
+        binned. The version moves when any range does."""
         swept, probed = kinds
         ranges = self.ranges
         bounds = self.bounds
         c = self.cell
         changed = False
-        # A binned body inside its cells keeps them: that spares a re-bin. A probe's larger
-        # range spares only a look, and only when few bodies move (else the grid looks
-        # anyway and the larger range would just add candidates).
+        # While few bodies move, one still inside its cells keeps them: that spares a
+        # re-bin, and a look. When many move the grid looks anyway, and larger ranges
+        # would only add candidates.
         buffer = self.move_buffer
         few = len(buffer) <= FEW_MOVES
         for body in buffer:
@@ -106,21 +106,21 @@ class Grid:
                     y0 = py
                 elif py + body.h > y1:
                     y1 = py + body.h
-            if edges is not None and (edges[0] <= x0 and edges[1] <= y0 and x1 <= edges[2]
-                                      and y1 <= edges[3]) and (few or body.kind in probed):
+            if few and edges is not None and (edges[0] <= x0 and edges[1] <= y0
+                                              and x1 <= edges[2] and y1 <= edges[3]):
                 continue  # inside its cells: keep them (a superset is safe)
             cx0 = x0 // c
             cy0 = y0 // c
             cx1 = (x1 - 1) // c
             cy1 = (y1 - 1) // c
             new = (cx0, cy0, cx1, cy1)
-            if edges is not None and new == ranges[body.id]:
-                continue  # a probe among many moves, still in the same cells
+            old = ranges.get(body.id)
+            if new == old:
+                continue  # among many moves: the same cells
             if body.kind in probed:
-                if edges is None:
+                if old is None:
                     self._bin(body, new)
                 else:
-                    old = ranges[body.id]
                     self._unbin(body, old, new)
                     self._bin(body, new, old)
                 self.rebins += 1
