@@ -275,3 +275,26 @@ def test_distinct_is_numpys_unique(values, repeats):
 
     array = np.array(values * repeats, dtype=np.int64)
     assert distinct(array).tolist() == np.unique(array).tolist()
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), cell=st.sampled_from([3, 8, 32]),
+       size=st.integers(1, 70))
+def test_numpy_cells_are_every_cell_each_box_covers(seed, cell, size):
+    """Boxes in one cell, in up to 2x2 and in more: each row's cells, row by row."""
+    import numpy as np
+
+    from invaders.engine.numpy_grid import OFFSET, STRIDE, _cells
+
+    rng = random.Random(seed)
+    rows = []
+    for _ in range(rng.randrange(1, 25)):
+        x, y = rng.randrange(-100, 100), rng.randrange(-100, 100)
+        rows.append((x, y, x + rng.randrange(1, size + 1), y + rng.randrange(1, size + 1)))
+    keys, of = _cells(np.array(rows, dtype=np.int64), cell)
+    found = list(zip(of.tolist(), keys.tolist(), strict=True))
+    expected = [(r, (cy + OFFSET) * STRIDE + cx + OFFSET)
+                for r, (x0, y0, x1, y1) in enumerate(rows)
+                for cy in range(y0 // cell, (y1 - 1) // cell + 1)
+                for cx in range(x0 // cell, (x1 - 1) // cell + 1)]
+    assert found == expected

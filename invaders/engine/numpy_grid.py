@@ -137,20 +137,28 @@ def _boxes(bodies: list[Body], slot: dict[int, int], tick: int,
 
 
 def _cells(xy: np.ndarray, cell: int) -> tuple[np.ndarray, np.ndarray]:
-    """(cell key, row) for every cell each box covers."""
+    """(cell key, row) for every cell each box covers, row by row, each row's cells in
+    row-major order."""
     c0 = xy[:, :2] // cell
     c1 = (xy[:, 2:] - 1) // cell
-    span = c1 - c0 + 1
+    x0, y0 = c0[:, 0] + OFFSET, (c0[:, 1] + OFFSET) * STRIDE
+    x1, y1 = c1[:, 0] + OFFSET, (c1[:, 1] + OFFSET) * STRIDE
+    wide, tall = x1 != x0, y1 != y0
+    if not (wide.any() or tall.any()):  # every box in one cell: the common case
+        return y0 + x0, np.arange(len(xy))
+    if (x1 - x0).max() <= 1 and (y1 - y0).max() <= STRIDE:  # at most 2x2 cells each
+        keys = np.stack([y0 + x0, y0 + x1, y1 + x0, y1 + x1], axis=1)
+        keep = np.stack([np.ones(len(xy), dtype=bool), wide, tall, wide & tall], axis=1)
+        rows, corner = np.nonzero(keep)
+        return keys[rows, corner], rows
+    span = c1 - c0 + 1  # boxes wider than a cell: every cell of each, counted out
     counts = span[:, 0] * span[:, 1]
     rows = np.repeat(np.arange(len(xy)), counts)
-    if len(rows) == len(xy):  # every box in one cell: the common case
-        cx, cy = c0[:, 0], c0[:, 1]
-    else:
-        first = np.repeat(np.cumsum(counts) - counts, counts)
-        k = np.arange(len(rows)) - first
-        width = span[rows, 0]
-        cx = c0[rows, 0] + k % width
-        cy = c0[rows, 1] + k // width
+    first = np.repeat(np.cumsum(counts) - counts, counts)
+    k = np.arange(len(rows)) - first
+    width = span[rows, 0]
+    cx = c0[rows, 0] + k % width
+    cy = c0[rows, 1] + k // width
     return (cy + OFFSET) * STRIDE + (cx + OFFSET), rows
 
 
@@ -160,7 +168,7 @@ CellIndex = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool]
 def _index(keys: np.ndarray, rows: np.ndarray, boxes: int) -> CellIndex:
     """Cells to look up: each distinct key once, sorted, with where its rows start in the
     rows sorted by key and how many there are; and whether each row has one cell."""
-    order = np.argsort(keys, kind="stable")
+    order = np.argsort(keys)  # any order within a key: the pairs are sorted by ids later
     keys, by_key = keys[order], rows[order]
     if not len(keys):
         return keys, keys, keys, by_key, True
