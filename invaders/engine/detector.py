@@ -185,7 +185,8 @@ class Detector:
         self._zoned: list[tuple[int, PairRule, ZoneIndex]] = []
         self._allowed = 0
         self._quiet = CollisionStats()
-        self._quiet_zoned: dict[tuple[int, int], CollisionStats] = {}  # with zones, by count
+        # (bodies, pairs allowed) -> the counters of a tick with no pairs
+        self._quiet_by_count: dict[tuple[int, int], CollisionStats] = {}
         # A broad phase may find the bodies in a zone faster than testing each one.
         self._in_zone = getattr(broadphase, "in_zone", None) or _tested_in_zone
 
@@ -284,11 +285,11 @@ class Detector:
 
     def _quiet_counters(self, n: int, allowed: int) -> CollisionStats:
         """The counters of a tick with no candidate pair (kept: most ticks are one)."""
-        stats = self._quiet_zoned.get((n, allowed))
+        stats = self._quiet_by_count.get((n, allowed))
         if stats is None:
-            if len(self._quiet_zoned) > 255:
-                self._quiet_zoned.clear()
-            stats = self._quiet_zoned[(n, allowed)] = CollisionStats(
+            if len(self._quiet_by_count) > 255:
+                self._quiet_by_count.clear()
+            stats = self._quiet_by_count[(n, allowed)] = CollisionStats(
                 n, n * (n - 1) // 2, allowed, 0, 0, 0, 0, 0, 0, 0)
         return stats
 
