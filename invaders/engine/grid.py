@@ -48,7 +48,8 @@ class Grid:
         # empty in the other layer skips its cells at the cost of one look-up per row.
         self.rows: dict[int, dict[int, int]] = {}
         self.ranges: dict[int, CellRange] = {}  # every live body's, binned or not
-        self.bounds: dict[int, CellRange] = {}  # the same in px (x0, y0, x1, y1, half-open)
+        # The same in px (x0, y0, x1, y1, half-open), kept while few bodies move.
+        self.bounds: dict[int, CellRange] = {}
         self.rebins = 0  # how many times a body changed cells (for the study and tests)
         self.version = 0  # moves whenever a body's range does, or a body comes or goes
         self._last: tuple[int, Sequence[Group], tuple[Pair, ...]] | None = None  # last answer
@@ -77,17 +78,20 @@ class Grid:
         changed = False
         # While few bodies move, one still inside its cells keeps them: that spares a
         # re-bin, and a look. When many move the grid looks anyway, and larger ranges
-        # would only add candidates.
+        # would only add candidates: ranges stay exact and the px bounds are not kept (a
+        # body gets them again when it next moves among few).
         buffer = self.move_buffer
         few = len(buffer) <= FEW_MOVES
+        if not few and bounds:
+            bounds.clear()
         for body in buffer:
-            edges = bounds.get(body.id)
             if not body.alive:
-                if edges is not None:
+                old = ranges.get(body.id)
+                if old is not None:
                     if body.kind in probed:
-                        self._unbin(body, ranges[body.id])
+                        self._unbin(body, old)
                     del ranges[body.id]
-                    del bounds[body.id]
+                    bounds.pop(body.id, None)
                     changed = True
                 continue
             # Its box over the tick (body.tick_box), inlined: the hot path.
@@ -106,27 +110,29 @@ class Grid:
                     y0 = py
                 elif py + body.h > y1:
                     y1 = py + body.h
-            if few and edges is not None and (edges[0] <= x0 and edges[1] <= y0
-                                              and x1 <= edges[2] and y1 <= edges[3]):
-                continue  # inside its cells: keep them (a superset is safe)
+            if few:
+                edges = bounds.get(body.id)
+                if edges is not None and (edges[0] <= x0 and edges[1] <= y0
+                                          and x1 <= edges[2] and y1 <= edges[3]):
+                    continue  # inside its cells: keep them (a superset is safe)
             cx0 = x0 // c
             cy0 = y0 // c
             cx1 = (x1 - 1) // c
             cy1 = (y1 - 1) // c
             new = (cx0, cy0, cx1, cy1)
             old = ranges.get(body.id)
-            if new == old:
-                continue  # among many moves: the same cells
-            if body.kind in probed:
-                if old is None:
-                    self._bin(body, new)
-                else:
-                    self._unbin(body, old, new)
-                    self._bin(body, new, old)
-                self.rebins += 1
-            ranges[body.id] = new
-            bounds[body.id] = (cx0 * c, cy0 * c, (cx1 + 1) * c, (cy1 + 1) * c)
-            changed = True
+            if new != old:
+                if body.kind in probed:
+                    if old is None:
+                        self._bin(body, new)
+                    else:
+                        self._unbin(body, old, new)
+                        self._bin(body, new, old)
+                    self.rebins += 1
+                ranges[body.id] = new
+                changed = True
+            if few:
+                bounds[body.id] = (cx0 * c, cy0 * c, (cx1 + 1) * c, (cy1 + 1) * c)
         buffer.clear()
         if changed:
             self.version += 1
