@@ -36,8 +36,9 @@ BROADPHASES = ("grid", "brute", "sweep", "numpy", "auto")
 # Bodies from which the numpy broad phase beats the grid, as measured on storms on a 2-core
 # machine (ms of detection a tick, grid then numpy): `invaders study` (docs/study/
 # scaling.csv) 300 bodies 0.66 and 1.33, 1,000 1.95 and 1.92, 3,000 6.59 and 4.13, 10,000
-# 22.3 and 10.3; `invaders bench --big` 1,000 1.87 and 1.92, 10,000 23.9 and 9.8. At
-# 1,000 the two are even and at 3,000 numpy is well ahead: the switch sits between.
+# 22.3 and 10.3; `invaders bench --big` 1,000 1.95 and 2.12, 10,000 23.3 and 9.3. At
+# 1,000 the grid is even or a little ahead and at 3,000 numpy is well ahead: the switch
+# sits between.
 NUMPY_FROM = 2000
 NUMPY_UNTIL = 1500  # below this an automatic choice goes back to the grid (no flapping)
 SWEPT, LANDING = Motion.SWEPT, Motion.LANDING  # an enum member by name costs a slow look-up
