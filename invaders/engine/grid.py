@@ -48,7 +48,8 @@ class Grid:
         # empty in the other layer skips its cells at the cost of one look-up per row.
         self.rows: dict[int, dict[int, int]] = {}
         self.ranges: dict[int, CellRange] = {}  # every live body's, binned or not
-        # The same in px (x0, y0, x1, y1, half-open), kept while few bodies move.
+        # The same in px (x0, y0, x1, y1, half-open), kept while few bodies move: a body
+        # still inside its cells is then told apart by comparing, without dividing.
         self.bounds: dict[int, CellRange] = {}
         self.rebins = 0  # how many times a body changed cells (for the study and tests)
         self.version = 0  # moves whenever a body's range does, or a body comes or goes
