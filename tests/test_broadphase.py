@@ -151,13 +151,14 @@ def test_a_body_spanning_many_cells_is_reported_once():
     assert [(c.a_id, c.b_id) for c in contacts] == [(1, 2)]
 
 
-def _two_blocks(probe_at: tuple[int, int], target_at: tuple[int, int]):
-    """A store of two 4x4 blocks, kind 1 probing kind 2 by boxes, and a 32-px grid:
-    (store, grid, detector, probe, target)."""
+def _two_blocks(probe_at: tuple[int, int], target_at: tuple[int, int], swept: bool = False):
+    """A store of two 4x4 blocks, kind 1 probing kind 2 by boxes (discrete, or `swept`),
+    and a 32-px grid: (store, grid, detector, probe, target)."""
     from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
     from invaders.engine.store import BodyStore
 
-    rules = RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, Motion.DISCRETE),))
+    motion = Motion.SWEPT if swept else Motion.DISCRETE
+    rules = RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, motion),))
     store = BodyStore((1, 2))
     grid = Grid(32)
     detector = Detector(grid, rules)
@@ -236,6 +237,31 @@ def test_a_body_keeps_a_larger_range_only_while_few_bodies_move():
             ranges.append(grid.ranges[probe.id])
         kept = (0, 0, 1, 0) if others == 0 else (1, 0, 1, 0)
         assert ranges == [(0, 0, 1, 0), kept]
+
+
+def test_a_swept_body_is_seen_over_its_whole_path_when_its_start_was_not_its_last_place():
+    """While few move, a swept body whose box now is inside its cells keeps them without
+    its start being looked at, as that was its last place. When it was not (put down with
+    a start elsewhere, or moved on a tick the grid did not look), the path from the start
+    is binned: here it runs back across the target and ends in the cell it left."""
+    from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
+
+    brute = Detector(Brute(), RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, Motion.SWEPT),)))
+    for skipped_a_look in (False, True):
+        store, grid, detector, probe, _ = _two_blocks((2, 2), (64, 2), swept=True)
+        detector.detect(store)
+        store.tick += 1
+        if skipped_a_look:  # it goes right on a tick nobody looked, and back on the next
+            store.move(probe, 100, 2)
+            store.tick += 1
+            store.move(probe, 4, 2)
+        else:  # played back: this tick it went from x = 100 to x = 4
+            store.move_from(probe, 100, 2, 4, 2)
+        contacts, _ = detector.detect(store)
+        # The first touch: the probe at x 67..70 meets the target at 64..67.
+        assert [(c.a_id, c.b_id, c.ax) for c in contacts] == [(1, 2, 67)]
+        assert contacts == brute.detect(store)[0]
+        assert grid.ranges[probe.id] == (0, 0, 3, 0)  # x 4..104: cells 0 to 3
 
 
 @settings(max_examples=80, deadline=None)

@@ -54,6 +54,7 @@ class Grid:
         self.rebins = 0  # how many times a body changed cells (for the study and tests)
         self.version = 0  # moves whenever a body's range does, or a body comes or goes
         self._last: tuple[int, Sequence[Group], tuple[Pair, ...]] | None = None  # last answer
+        self._looked = -2  # the tick of the last query: its moves were all drained then
 
     # --- keeping the cells in step with the store --------------------------------------------
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
@@ -85,6 +86,11 @@ class Grid:
         few = len(buffer) <= FEW_MOVES
         if not few and bounds:
             bounds.clear()
+        # A swept body's box at the tick's start is the one it had at the last tick's end,
+        # inside its kept cells if the grid looked then, unless the body leapt (it was put
+        # down with a start elsewhere, came back or changed size): then only its box now
+        # need be inside them.
+        steady = few and self._looked == tick - 1
         for body in buffer:
             if not body.alive:
                 old = ranges.get(body.id)
@@ -95,12 +101,23 @@ class Grid:
                     bounds.pop(body.id, None)
                     changed = True
                 continue
-            # Its box over the tick (body.tick_box), inlined: the hot path.
             x0 = body.x
             y0 = body.y
             x1 = x0 + body.w
             y1 = y0 + body.h
+            if few:
+                edges = bounds.get(body.id)
+                if edges is not None and (edges[0] <= x0 and edges[1] <= y0
+                                          and x1 <= edges[2] and y1 <= edges[3]):
+                    if steady and body.leapt_tick != tick:
+                        continue  # inside its cells now and at the tick's start: keep them
+                    if (body.moved_tick != tick or body.kind not in swept
+                            or (edges[0] <= body.px and edges[1] <= body.py
+                                and body.px + body.w <= edges[2]
+                                and body.py + body.h <= edges[3])):
+                        continue  # its start, looked at, is inside them too
             if body.moved_tick == tick and body.kind in swept:
+                # Its box over the tick (body.tick_box), inlined: the hot path.
                 px = body.px
                 py = body.py
                 if px < x0:
@@ -111,11 +128,6 @@ class Grid:
                     y0 = py
                 elif py + body.h > y1:
                     y1 = py + body.h
-            if few:
-                edges = bounds.get(body.id)
-                if edges is not None and (edges[0] <= x0 and edges[1] <= y0
-                                          and x1 <= edges[2] and y1 <= edges[3]):
-                    continue  # inside its cells: keep them (a superset is safe)
             cx0 = x0 // c
             cy0 = y0 // c
             cx1 = (x1 - 1) // c
@@ -194,6 +206,7 @@ class Grid:
         tuple, so it can be handed out as it is)."""
         if self.move_buffer:
             self._drain(scene.tick, kinds)
+        self._looked = scene.tick
         last = self._last
         if last is not None and last[0] == self.version and last[1] is groups:
             return last[2]

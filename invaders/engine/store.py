@@ -54,7 +54,7 @@ class BodyStore:
     def add(self, body: Body) -> None:
         """A body appears (or comes back) this tick."""
         body.alive = True
-        body.shaped_tick = self.tick
+        body.shaped_tick = body.leapt_tick = self.tick
         bodies = self.by_kind[body.kind]
         self.size += 1
         self.membership += 1
@@ -80,6 +80,8 @@ class BodyStore:
 
     def move_from(self, body: Body, px: int, py: int, x: int, y: int) -> None:
         """This tick the body went from (px, py) to (x, y) (for scenes played back)."""
+        if px != body.x or py != body.y:  # it did not start where it was
+            body.leapt_tick = self.tick
         if (px, py) == (x, y):
             body.moved_tick = -1
         else:
@@ -102,6 +104,7 @@ class BodyStore:
         body.mask = mask
         if size != (body.w, body.h):
             body.w, body.h = size
+            body.leapt_tick = self.tick
             if self._buffer is not None:
                 self._buffer.append(body)
 
