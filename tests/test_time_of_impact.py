@@ -50,7 +50,7 @@ def _scene(turn: int):
     capture = Capture()
     world.detector.observers.append(capture)
     rack = world.rack
-    alien = rack.aliens[5 if rack._next_live(rack.cursor) != 5 else 6]
+    alien = rack.aliens[5 if rack.next_index() != 5 else 6]
     col = next(c for c in range(alien.w) if _lit_rows(alien.mask, c))
     return world, capture, alien, alien.x + col, alien.y + max(_lit_rows(alien.mask, col))
 

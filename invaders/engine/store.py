@@ -99,7 +99,8 @@ class BodyStore:
         if mask is old:
             return
         size = mask.get_size()
-        if gains_pixels(old, mask):
+        gained = _gains.get((old, mask))  # gains_pixels' own cache, read first: every tick
+        if gained or (gained is None and gains_pixels(old, mask)):
             body.shaped_tick = self.tick
         body.mask = mask
         if size != (body.w, body.h):

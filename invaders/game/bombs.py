@@ -46,7 +46,7 @@ def reset_slots(slots: list[BombSlot], store: BodyStore) -> None:
 def reload_ready(slots: list[BombSlot], me: BombSlot, steps_needed: int) -> bool:
     """A type may fire only if every *other* busy bomb has made more than R steps."""
     for other in slots:  # a loop, not all(): this is asked every tick
-        if other is not me and other.busy and other.steps <= steps_needed:
+        if other is not me and other.steps <= steps_needed and other.busy:
             return False
     return True
 

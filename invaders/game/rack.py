@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from bisect import bisect_left
+
 from invaders.engine.store import BodyStore
 from invaders.game import art
 from invaders.game.config import GameConfig
@@ -34,8 +36,8 @@ class Rack:
             alien.alive = False  # not drawn yet
             self.aliens.append(alien)
         self.live = len(self.aliens)
+        self._live_indices = list(range(self.live))  # in order: the cursor finds the next
         self._extent: tuple[int, int] | None = None  # lit columns' offsets from ref_x
-        self._upcoming: tuple[int, int | None] = (0, None)  # (cursor, next live index)
 
     def live_aliens(self) -> list[Alien]:
         """Live aliens on the screen (drawn at least once), in index order."""
@@ -54,8 +56,8 @@ class Rack:
         """Take an alien out of the rack (the cursor skips it from now on)."""
         self.aliens[alien.index] = None
         self.live -= 1
+        self._live_indices.remove(alien.index)
         self._extent = None
-        self._upcoming = (0, None)
         store.remove(alien)
 
     def step(self, store: BodyStore) -> Alien | None:
@@ -63,15 +65,12 @@ class Rack:
         if self.live == 0:
             return None
         g = self.config.geometry
-        # The next live index from the cursor, worked out at the end of the last step (kept
-        # for that cursor, and forgotten when an alien is killed).
-        cursor, index = self._upcoming
-        if index is None or cursor != self.cursor:
-            index = self._next_live(self.cursor)
-        if index is None:
+        live = self._live_indices
+        at = bisect_left(live, self.cursor)  # the next live index from the cursor
+        if at == len(live):
             self._wrap()
-            index = self._next_live(0)
-            assert index is not None
+            at = 0
+        index = live[at]
         alien = self.aliens[index]
         assert alien is not None
         row, col = divmod(index, g.cols)
@@ -82,18 +81,17 @@ class Rack:
             store.reshape(alien, ALIEN_MASKS[row][self.frame])
         store.move(alien, self.ref_x + g.cell * col, self.ref_top - g.cell * row - 8)
         self.cursor = index + 1
-        upcoming = self._next_live(self.cursor)
-        self._upcoming = (self.cursor, upcoming)
-        if upcoming is None:
+        if at == len(live) - 1:  # the last live one
             self._wrap()
         return alien
 
-    def _next_live(self, start: int) -> int | None:
-        aliens = self.aliens
-        for index in range(start, len(aliens)):
-            if aliens[index] is not None:
-                return index
-        return None
+    def next_index(self) -> int | None:
+        """The index of the alien the next step draws (None with no live aliens)."""
+        live = self._live_indices
+        if not live:
+            return None
+        at = bisect_left(live, self.cursor)
+        return live[at] if at < len(live) else live[0]
 
     def _wrap(self) -> None:
         """The reference alien moves: a step, or at an edge a drop and a step back."""

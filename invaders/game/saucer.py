@@ -39,7 +39,7 @@ class SaucerState:
 
 def count_down(state: SaucerState, config: GameConfig, ref_top: int) -> None:
     """Per tick; runs only once the rack is below its wave-1 start (Yr < 0x78)."""
-    if ref_top <= config.start_top(1):
+    if ref_top <= config.rules.start_tops[0]:  # start_top(1), read directly: every tick
         return
     state.timer -= 1
     if state.timer <= 0:
