@@ -231,12 +231,39 @@ class Detector:
                 continue
             motion = rule.motion
             if motion is SWEPT:
-                box_hit, contact = self._walk(a, b, rule, tick, landed=False)
-                if box_hit:
-                    rect_hits += 1
-                    swept_tests += 1
-                    if contact is not None:
-                        contacts.append(contact)
+                # The quick test, predicates.swept_box_overlap inlined (the hot path): b's box
+                # swept by the pair's motion relative to a, against a's box at its start.
+                if a.moved_tick == tick:
+                    apx = a.px
+                    apy = a.py
+                else:
+                    apx = a.x
+                    apy = a.y
+                if b.moved_tick == tick:
+                    bpx = b.px
+                    bpy = b.py
+                else:
+                    bpx = b.x
+                    bpy = b.y
+                ox = bpx - apx
+                oy = bpy - apy
+                dx = (b.x - bpx) - (a.x - apx)
+                dy = (b.y - bpy) - (a.y - apy)
+                if dx < 0:
+                    if not (ox + dx < a.w and ox + b.w > 0):
+                        continue
+                elif not (ox < a.w and ox + b.w + dx > 0):
+                    continue
+                if dy < 0:
+                    if not (oy + dy < a.h and oy + b.h > 0):
+                        continue
+                elif not (oy < a.h and oy + b.h + dy > 0):
+                    continue
+                rect_hits += 1
+                swept_tests += 1
+                contact = self._walk(a, b, rule, tick, apx, apy, bpx, bpy)
+                if contact is not None:
+                    contacts.append(contact)
                 continue
             if quick is None and not (a.x < b.x + b.w and b.x < a.x + a.w
                                       and a.y < b.y + b.h and b.y < a.y + a.h):
@@ -256,7 +283,8 @@ class Detector:
                                         b.x, b.y, *point, rule))
                 continue
             # Discrete: found where they landed; its time is when they first touched.
-            _, walked = self._walk(a, b, rule, tick, landed=True)
+            walked = self._walk(a, b, rule, tick, *a.start_of_tick(tick),
+                                *b.start_of_tick(tick))
             time = walked.time if walked is not None else END
             contacts.append(Contact(tick, time, a.id, b.id, a.kind, b.kind, a.x, a.y, b.x, b.y,
                                     *point, rule))
@@ -333,30 +361,14 @@ class Detector:
                 skipped += 1
         return groups, allowed
 
-    def _walk(self, a: Body, b: Body, rule: PairRule, tick: int,
-              landed: bool) -> tuple[bool, Contact | None]:
-        """Swept box test, then the pixel walk along the relative motion: (did the boxes
-        meet, the first touch or None). With `landed`, the pair is known to touch where it
-        landed and only the time of first touch is wanted."""
-        apx, apy = (a.px, a.py) if a.moved_tick == tick else (a.x, a.y)
-        bpx, bpy = (b.px, b.py) if b.moved_tick == tick else (b.x, b.y)
+    def _walk(self, a: Body, b: Body, rule: PairRule, tick: int, apx: int, apy: int,
+              bpx: int, bpy: int) -> Contact | None:
+        """The pixel walk along the pair's relative motion from their starts (apx, apy)
+        and (bpx, bpy): the first touch, or None. (The quick test is the caller's.)"""
         ox = bpx - apx  # b relative to a at the tick's start
         oy = bpy - apy
         dx = (b.x - bpx) - (a.x - apx)
         dy = (b.y - bpy) - (a.y - apy)
-        if not landed:
-            # The quick test, predicates.swept_box_overlap inlined (this is the hot path):
-            # b's box swept from (ox, oy) by (dx, dy) against a's box at the origin.
-            if dx < 0:
-                sx0, sx1 = ox + dx, ox + b.w
-            else:
-                sx0, sx1 = ox, ox + b.w + dx
-            if dy < 0:
-                sy0, sy1 = oy + dy, oy + b.h
-            else:
-                sy0, sy1 = oy, oy + b.h + dy
-            if not (sx0 < a.w and sx1 > 0 and sy0 < a.h and sy1 > 0):
-                return False, None
         masked = rule.masked  # _shape_mask, inlined
         a_mask = a.mask if a.kind in masked else _solid_mask(a.w, a.h)
         b_mask = b.mask if b.kind in masked else _solid_mask(b.w, b.h)
@@ -364,23 +376,23 @@ class Detector:
         if b.kind not in self.eroding:
             found = predicates.first_swept_contact(a_mask, b_mask, ox, oy, dx, dy, fresh)
             if found is None:
-                return True, None
+                return None
             step, steps, (hx, hy) = found
             ax, ay = _at(apx, apy, a.x, a.y, step, steps)
             sx, sy = predicates.substeps(dx, dy)[step]
             bx, by = ax + ox + sx, ay + oy + sy
-            return True, Contact(tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
-                                 ax, ay, bx, by, ax + hx, ay + hy, rule)
+            return Contact(tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
+                           ax, ay, bx, by, ax + hx, ay + hy, rule)
         # b erodes (a shield): sweep a against it instead, so only shared masks are swept.
         found = predicates.first_swept_contact(b_mask, a_mask, -ox, -oy, -dx, -dy, fresh)
         if found is None:
-            return True, None
+            return None
         step, steps, (hx, hy) = found
         bx, by = _at(bpx, bpy, b.x, b.y, step, steps)
         sx, sy = predicates.substeps(-dx, -dy)[step]
         ax, ay = bx - ox + sx, by - oy + sy
-        return True, Contact(tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
-                             ax, ay, bx, by, bx + hx, by + hy, rule)
+        return Contact(tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
+                       ax, ay, bx, by, bx + hx, by + hy, rule)
 
 
 def _tested_in_zone(scene: Scene, kind: int, zone: ZoneIndex, kinds: KindSets) -> list[Body]:
