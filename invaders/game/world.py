@@ -41,6 +41,7 @@ from invaders.game.rack import Rack
 from invaders.game.rules import make_rules
 
 LEFT, RIGHT, FIRE, START = (int(a) for a in (Action.LEFT, Action.RIGHT, Action.FIRE, Action.START))
+MOVES = LEFT | RIGHT
 
 
 class Phase(IntEnum):
@@ -186,9 +187,11 @@ class World:
         if not self.rack.live:
             self._settle()
         broadphase = self.detector.broadphase
-        report = TickReport(store.tick, stats, tuple(self.events), tuple(applied),
+        events = self.events
+        report = TickReport(store.tick, stats, tuple(events) if events else (), tuple(applied),
                             broadphase.name, broadphase.cell)
-        self.events = []  # events of set-up (the first wave) go out with tick 0's report
+        if events:  # events of set-up (the first wave) go out with tick 0's report
+            self.events = []
         store.tick += 1
         return report
 
@@ -200,7 +203,7 @@ class World:
         cannon_state = self.cannon.state
         marching = cannon_state is ACTIVE or (
             cannon_state is WAITING and not self.respawning)
-        if marching and not self.alien_exploding:
+        if marching and not (self.explosions and self.alien_exploding):
             alien = self.rack.step(self.store)
             if alien is not None and alien.top >= self.config.geometry.invasion_top:
                 # The cannon is blown up first, then the game is over (1971 -> 16E6).
@@ -248,9 +251,13 @@ class World:
             return
         if self.alien_fire_timer > 0:
             self.alien_fire_timer -= 1
-        dx = (1 if actions & RIGHT else 0) - (1 if actions & LEFT else 0)
-        if dx:
-            x = min(max(cannon.x + dx * self.config.speeds.cannon, g.cannon_min_x), g.cannon_max_x)
+        if actions & MOVES:
+            dx = (1 if actions & RIGHT else 0) - (1 if actions & LEFT else 0)
+            x = cannon.x + dx * self.config.speeds.cannon
+            if x < g.cannon_min_x:
+                x = g.cannon_min_x
+            elif x > g.cannon_max_x:
+                x = g.cannon_max_x
             if x != cannon.x:
                 self.store.move(cannon, x, cannon.y)
         # The shot stays busy through an alien's explosion: fire is refused until it ends
