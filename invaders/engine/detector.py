@@ -35,12 +35,12 @@ QuickTest = Callable[[tuple[int, int, int, int], tuple[int, int, int, int]], boo
 BROADPHASES = ("grid", "brute", "sweep", "numpy", "auto")
 # Bodies from which the numpy broad phase beats the grid, as measured on storms on a 2-core
 # machine (ms of detection a tick, grid then numpy): `invaders study` (docs/study/
-# scaling.csv) 300 bodies 0.66 and 1.33, 1,000 1.95 and 1.92, 3,000 6.59 and 4.13, 10,000
-# 22.3 and 10.3; `invaders bench --big` 1,000 1.95 and 2.12, 10,000 23.3 and 9.3. At
-# 1,000 the grid is even or a little ahead and at 3,000 numpy is well ahead: the switch
-# sits between.
-NUMPY_FROM = 2000
-NUMPY_UNTIL = 1500  # below this an automatic choice goes back to the grid (no flapping)
+# scaling.csv) 300 bodies 0.29 and 0.47, 1,000 0.83 and 0.68, 3,000 2.61 and 1.39, 10,000
+# 8.99 and 3.57. Timed as the bench times them (steady state, 7 interleaved rounds), storms
+# of 500, 700 and 900 bodies gave the grid's time over numpy's as 0.87, 1.06 and 1.23: the
+# two meet near 650 bodies, and the switch sits a little above.
+NUMPY_FROM = 800
+NUMPY_UNTIL = 600  # below this an automatic choice goes back to the grid (no flapping)
 SWEPT, LANDING = Motion.SWEPT, Motion.LANDING  # an enum member by name costs a slow look-up
 _solid_mask = predicates.solid_mask
 
