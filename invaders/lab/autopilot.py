@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import random
 
+from invaders.engine.predicates import solid_mask
 from invaders.game.actions import Action
 from invaders.game.world import ACTIVE, GAME_OVER, World
 from invaders.lab.styles import STYLES
@@ -172,21 +173,24 @@ class Autopilot:
             lead = ship.dx * SHOT_TICKS_TO_LANE // 3
             return ship.x + 12 + lead
         # The first alien, in column order, that is least (not under a shield, lowest, then
-        # nearest the cannon): the comparison written out, as the tuples cost more.
+        # nearest the cannon): those in the clear first, and only if none is, all of them
+        # (the comparison written out, as tuples cost more).
         lit = frozenset() if self._through_shields else self._shields.lit(world)
         centre = world.cannon.x + 8
-        best_x = None
-        best_blocked, best_y, best_dist = True, 0, 0
-        for alien in targets:
-            x = alien.x + 8
-            blocked = x in lit
-            y = alien.y  # the lowest has the largest y (its picture's top is y + 8)
-            dist = x - centre if x > centre else centre - x
-            if best_x is None or (not blocked and best_blocked) or (
-                    blocked == best_blocked and (y > best_y or (y == best_y
-                                                                and dist < best_dist))):
-                best_x, best_blocked, best_y, best_dist = x, blocked, y, dist
-        return best_x
+        for anywhere in (False, True):
+            best_x = None
+            best_y = best_dist = 0
+            for alien in targets:
+                x = alien.x + 8
+                if not anywhere and x in lit:
+                    continue
+                y = alien.y  # the lowest has the largest y (its picture's top is y + 8)
+                dist = x - centre if x > centre else centre - x
+                if best_x is None or y > best_y or (y == best_y and dist < best_dist):
+                    best_x, best_y, best_dist = x, y, dist
+            if best_x is not None:
+                return best_x
+        return None
 
     def _approach(self, world: World, centre: int) -> int:
         target = self._target_x(world)
@@ -268,20 +272,19 @@ class ShieldColumns:
         spanned: set[int] = set()
         lit: set[int] = set()
         for bunker in world.bunkers:
-            columns = self._columns(bunker)
-            for x in range(bunker.x, bunker.x + bunker.w):
-                if x not in spanned:
-                    spanned.add(x)
-                    if x in columns:
-                        lit.add(x)
+            span = range(bunker.x, bunker.x + bunker.w)
+            lit |= self._columns(bunker).difference(spanned)
+            spanned.update(span)
         return frozenset(lit)
 
     def _columns(self, bunker) -> frozenset[int]:
         count = bunker.mask.count()
         seen = self._seen.get(bunker.id)
         if seen is None or seen[0] != count:
+            # A column is lit if a one-pixel-wide bar down it meets the mask.
+            bar = solid_mask(1, bunker.h)
             lit = frozenset(bunker.x + cx for cx in range(bunker.w)
-                            if any(bunker.mask.get_at((cx, cy)) for cy in range(bunker.h)))
+                            if bunker.mask.overlap(bar, (cx, 0)) is not None)
             seen = self._seen[bunker.id] = (count, lit)
         return seen[1]
 

@@ -1,0 +1,55 @@
+"""The autopilot aims by its stated rule and sees the shields' columns as they are."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from invaders.game.world import World
+from invaders.lab.autopilot import Autopilot, ShieldColumns
+
+ALIEN_ROWS = (72, 88, 104, 120)  # tops a target can have
+
+
+@settings(max_examples=300, deadline=None)
+@given(places=st.lists(st.tuples(st.integers(0, 208), st.sampled_from(ALIEN_ROWS)),
+                       min_size=1, max_size=11),
+       lit=st.frozensets(st.integers(0, 223)), centre=st.integers(8, 200))
+def test_the_target_is_the_first_alien_in_the_clear_then_lowest_then_nearest(places, lit,
+                                                                             centre):
+    """Least by (under a shield, higher up, distance from the cannon's centre), the first
+    in column order on a tie: the rule written as a sort key."""
+    targets = [SimpleNamespace(x=x, y=y) for x, y in places]
+    pilot = Autopilot(0)
+    pilot._shootable = lambda world: targets
+    pilot._shields = SimpleNamespace(lit=lambda world: lit)
+    world = SimpleNamespace(saucer=SimpleNamespace(saucer=None),
+                            cannon=SimpleNamespace(x=centre - 8))
+    first = min(range(len(targets)), key=lambda i: (
+        targets[i].x + 8 in lit, -targets[i].y, abs(targets[i].x + 8 - centre), i))
+    assert pilot._find_target(world) == targets[first].x + 8
+
+
+def test_shield_columns_are_those_with_a_lit_pixel_and_follow_erosion():
+    world = World(seed=1)
+    columns = ShieldColumns()
+
+    def lit_by_pixels() -> set[int]:
+        return {bunker.x + cx for bunker in world.bunkers for cx in range(bunker.w)
+                if any(bunker.mask.get_at((cx, cy)) for cy in range(bunker.h))}
+
+    assert columns.lit(world) == lit_by_pixels()
+    bunker = world.bunkers[1]
+    for cx in (10, 11, 12):  # three columns of the second shield cleared...
+        for cy in range(bunker.h):
+            bunker.mask.set_at((cx, cy), 0)
+    bunker.mask.set_at((11, 0), 1)  # ...but for a pixel at the top of one
+    bunker.mask.set_at((12, bunker.h - 1), 1)  # and one at the bottom of another
+    world.erosions += 1  # as the world's erosion counts it
+    world.store.tick += 1  # the autopilot looks again on a later tick
+    lit = columns.lit(world)
+    assert (bunker.x + 10 in lit, bunker.x + 11 in lit, bunker.x + 12 in lit) == (
+        False, True, True)
+    assert lit == lit_by_pixels()
