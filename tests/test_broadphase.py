@@ -240,10 +240,10 @@ def test_a_body_keeps_a_larger_range_only_while_few_bodies_move():
 
 
 def test_a_swept_body_is_seen_over_its_whole_path_when_its_start_was_not_its_last_place():
-    """While few move, a swept body whose box now is inside its cells keeps them without
-    its start being looked at, as that was its last place. When it was not (put down with
-    a start elsewhere, or moved on a tick the grid did not look), the path from the start
-    is binned: here it runs back across the target and ends in the cell it left."""
+    """While few move, a swept body whose box stays inside its cells is not reported, as
+    its start was its last place. When its start is elsewhere (put down so, or it moved
+    away on a tick the grid did not look at and came back on the next), the path from the
+    start is binned: here it runs back across the target and ends in the cell it left."""
     from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
 
     brute = Detector(Brute(), RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, Motion.SWEPT),)))
@@ -262,6 +262,61 @@ def test_a_swept_body_is_seen_over_its_whole_path_when_its_start_was_not_its_las
         assert [(c.a_id, c.b_id, c.ax) for c in contacts] == [(1, 2, 67)]
         assert contacts == brute.detect(store)[0]
         assert grid.ranges[probe.id] == (0, 0, 3, 0)  # x 4..104: cells 0 to 3
+
+
+def test_the_store_reports_a_move_only_when_the_box_leaves_its_fence():
+    """A fence (here x and y 0..16) spares the broad phase the moves inside it; any move
+    that leaves it is heard, the second of a tick too, and a move played back from a start
+    outside it."""
+    from types import SimpleNamespace
+
+    from invaders.engine.store import BodyStore
+
+    store = BodyStore((1,))
+    buffer: list[Body] = []
+    store.attach(SimpleNamespace(move_buffer=buffer))
+    body = Body(1, 1, 4, 4, art.mask_of(("####",) * 4))
+    store.add(body)
+    assert buffer == [body]  # added: always heard
+    buffer.clear()
+    body.fence = (0, 0, 16, 16)
+    heard = []
+    for tick, move in ((1, lambda: store.move(body, 12, 12)),  # 12..16: inside
+                       (1, lambda: store.move(body, 13, 12)),  # 13..17: out, same tick
+                       (2, lambda: store.move_from(body, 8, 8, 4, 4)),  # both ends inside
+                       (3, lambda: store.move_from(body, 20, 0, 4, 4))):  # from outside
+        store.tick = tick
+        move()
+        heard.append(len(buffer))
+        buffer.clear()
+    assert heard == [0, 1, 0, 1]
+
+
+def test_the_numpy_broad_phase_hears_every_move_of_a_body_the_grid_fenced():
+    """The grid lets a body move unheard inside its cells; the numpy broad phase must hear
+    every move, so its bodies lose their fences when it takes the store over, and a body
+    that comes back later has none. Here the probe moves, inside its old cell, onto the
+    target."""
+    from invaders.engine.detector import make_broadphase
+
+    for comes_back in (False, True):
+        store, _, detector, probe, _ = _two_blocks((2, 2), (26, 2))
+        detector.detect(store)  # few bodies: the grid fences each in its cell, x 0..32
+        assert probe.fence == (0, 0, 32, 32)
+        if comes_back:
+            store.tick += 1
+            store.remove(probe)
+            detector.detect(store)
+        numpy = Detector(make_broadphase("numpy"), detector.rules)
+        numpy.detect(store)
+        if comes_back:
+            store.tick += 1
+            store.add(probe)
+            numpy.detect(store)
+        store.tick += 1
+        store.move(probe, 24, 2)  # 24..28 against the target's 26..30
+        contacts, _ = numpy.detect(store)
+        assert [(c.a_id, c.b_id) for c in contacts] == [(1, 2)]
 
 
 @settings(max_examples=80, deadline=None)

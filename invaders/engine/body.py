@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import pygame
 
+FAR = 1 << 60
+NOWHERE = (FAR, FAR, -FAR, -FAR)  # a fence no box is inside: every move is reported
+
 
 class Body:
     """A collidable thing at integer position (x, y), the top-left of its w x h box.
@@ -13,13 +16,12 @@ class Body:
     it was at the tick's start, whatever px, py still hold. `shaped_tick` is the tick it
     appeared or last gained pixels: a tick's contacts are the touches after its first
     instant (that instant was the previous tick's last), and at that instant too when a
-    body in the pair is new in it. `leapt_tick` is the last tick on which its box at the
-    tick's start was not its box at the previous tick's end: it came (back), was put down
-    with a start elsewhere, or changed size. Change bodies through a `BodyStore`, which keeps
-    these fields and tells the broad phase.
+    body in the pair is new in it. `fence` (x0, y0, x1, y1, half-open) is where the broad
+    phase lets its box go unheard (Box2D's fat box): the store reports a move that leaves it.
+    Change bodies through a `BodyStore`, which keeps these fields and tells the broad phase.
     """
 
-    __slots__ = ("alive", "h", "id", "kind", "leapt_tick", "mask", "moved_tick", "px", "py",
+    __slots__ = ("alive", "fence", "h", "id", "kind", "mask", "moved_tick", "px", "py",
                  "shaped_tick", "w", "x", "y")
 
     def __init__(self, body_id: int, kind: int, x: int, y: int, mask: pygame.mask.Mask) -> None:
@@ -31,7 +33,7 @@ class Body:
         self.py = y
         self.moved_tick = -1
         self.shaped_tick = -1
-        self.leapt_tick = -1
+        self.fence = NOWHERE
         self.mask = mask
         self.w, self.h = mask.get_size()
         self.alive = True

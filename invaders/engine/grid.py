@@ -1,9 +1,9 @@
 """The uniform grid: one layer of cells per kind, kept between ticks from the move buffer.
 
 Each body is binned into the cells its box covers; a body spanning several cells is reported
-once. Only the bodies the store put in the move buffer since the last query are re-binned,
-and only when their box left the cells they are binned in; kinds that are never looked up
-are never binned.
+once. Only the bodies the store put in the move buffer since the last query are re-binned:
+while few move, the store hears of a body only when its box leaves its cells. Kinds that are
+never looked up are never binned.
 While no range changed, a query with the same groups gets the last answer without a look.
 """
 
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from invaders.engine.body import Body
+from invaders.engine.body import NOWHERE, Body
 from invaders.engine.broadphase import Group, KindSets, Pair, Scene, ordered, pair_key
 
 DEFAULT_CELL = 32  # px; `invaders study` finds 32 and 64 px even at game scale, 16 px slower
@@ -28,11 +28,12 @@ class Grid:
 
     Swept kinds are binned by the union of their boxes at the start and end of the tick. A
     body that stopped keeps the range of its last motion until it next changes. While few
-    bodies move, a body also keeps its range while its box stays inside it (one that moves
-    on keeps the cells it is entering): a superset, which is safe, so crossing a cell edge
-    re-bins once, not on entering and again on leaving, and the last answer stands more
-    often. When many move (a storm) the grid looks every tick anyway, and larger ranges
-    would only add candidates (a quarter more at 10,000 bodies), so ranges stay exact.
+    bodies move, a body's fence is its cells: the store does not report it while its box
+    stays inside them (one that moves on keeps the cells it is entering), a superset, which
+    is safe, so crossing a cell edge re-bins once, not on entering and again on leaving,
+    and the last answer stands more often. When many move (a storm) the grid looks every
+    tick anyway, and larger ranges would only add candidates (a quarter more at 10,000
+    bodies): a body then gets no fence, so its range stays exact.
     """
 
     name = "grid"
@@ -48,13 +49,9 @@ class Grid:
         # empty in the other layer skips its cells at the cost of one look-up per row.
         self.rows: dict[int, dict[int, int]] = {}
         self.ranges: dict[int, CellRange] = {}  # every live body's, binned or not
-        # The same in px (x0, y0, x1, y1, half-open), kept while few bodies move: a body
-        # still inside its cells is then told apart by comparing, without dividing.
-        self.bounds: dict[int, CellRange] = {}
         self.rebins = 0  # how many times a body changed cells (for the study and tests)
         self.version = 0  # moves whenever a body's range does, or a body comes or goes
         self._last: tuple[int, Sequence[Group], tuple[Pair, ...]] | None = None  # last answer
-        self._looked = -2  # the tick of the last query: its moves were all drained then
 
     # --- keeping the cells in step with the store --------------------------------------------
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
@@ -63,34 +60,21 @@ class Grid:
         self.layers = {kind: {} for kind in scene.by_kind}
         self.rows = {kind: {} for kind in scene.by_kind}
         self.ranges = {}
-        self.bounds = {}
         self.move_buffer.extend(body for bodies in scene.by_kind.values() for body in bodies)
         self._drain(scene.tick, kinds)
         self.version += 1
 
     def _drain(self, tick: int, kinds: KindSets) -> None:
-        """Apply the move buffer: what was added, moved, reshaped or removed. Every body's
-        cell range is kept (a probe's too, so a query need not work it out), and while few
-        bodies move changed only when its box leaves it; only bodies of probed kinds are
-        binned. The version moves when any range does."""
+        """Apply the move buffer: what was added, removed, resized or moved out of its
+        fence. Every body's cell range is kept (a probe's too, so a query need not work it
+        out); only bodies of probed kinds are binned. The version moves when any range
+        does. Each body drained gets its cells as its fence while few moved, else none."""
         swept, probed = kinds
         ranges = self.ranges
-        bounds = self.bounds
         c = self.cell
         changed = False
-        # While few bodies move, one still inside its cells keeps them: that spares a
-        # re-bin, and a look. When many move the grid looks anyway, and larger ranges
-        # would only add candidates: ranges stay exact and the px bounds are not kept (a
-        # body gets them again when it next moves among few).
         buffer = self.move_buffer
-        few = len(buffer) <= FEW_MOVES
-        if not few and bounds:
-            bounds.clear()
-        # A swept body's box at the tick's start is the one it had at the last tick's end,
-        # inside its kept cells if the grid looked then, unless the body leapt (it was put
-        # down with a start elsewhere, came back or changed size): then only its box now
-        # need be inside them.
-        steady = few and self._looked == tick - 1
+        fenced = len(buffer) <= FEW_MOVES
         for body in buffer:
             if not body.alive:
                 old = ranges.get(body.id)
@@ -98,24 +82,12 @@ class Grid:
                     if body.kind in probed:
                         self._unbin(body, old)
                     del ranges[body.id]
-                    bounds.pop(body.id, None)
                     changed = True
                 continue
             x0 = body.x
             y0 = body.y
             x1 = x0 + body.w
             y1 = y0 + body.h
-            if few:
-                edges = bounds.get(body.id)
-                if edges is not None and (edges[0] <= x0 and edges[1] <= y0
-                                          and x1 <= edges[2] and y1 <= edges[3]):
-                    if steady and body.leapt_tick != tick:
-                        continue  # inside its cells now and at the tick's start: keep them
-                    if (body.moved_tick != tick or body.kind not in swept
-                            or (edges[0] <= body.px and edges[1] <= body.py
-                                and body.px + body.w <= edges[2]
-                                and body.py + body.h <= edges[3])):
-                        continue  # its start, looked at, is inside them too
             if body.moved_tick == tick and body.kind in swept:
                 # Its box over the tick (body.tick_box), inlined: the hot path.
                 px = body.px
@@ -144,8 +116,8 @@ class Grid:
                     self.rebins += 1
                 ranges[body.id] = new
                 changed = True
-            if few:
-                bounds[body.id] = (cx0 * c, cy0 * c, (cx1 + 1) * c, (cy1 + 1) * c)
+            body.fence = ((cx0 * c, cy0 * c, (cx1 + 1) * c, (cy1 + 1) * c) if fenced
+                          else NOWHERE)
         buffer.clear()
         if changed:
             self.version += 1
@@ -206,7 +178,6 @@ class Grid:
         tuple, so it can be handed out as it is)."""
         if self.move_buffer:
             self._drain(scene.tick, kinds)
-        self._looked = scene.tick
         last = self._last
         if last is not None and last[0] == self.version and last[1] is groups:
             return last[2]

@@ -21,7 +21,7 @@ from typing import Protocol
 
 import numpy as np
 
-from invaders.engine.body import Body
+from invaders.engine.body import NOWHERE, Body
 from invaders.engine.broadphase import Group, KindSets, Pair, Scene
 from invaders.engine.grid import DEFAULT_CELL
 
@@ -235,6 +235,8 @@ class NumpyGrid:
         buffer = self.move_buffer  # the store holds this very list: refill it, never replace
         buffer.clear()
         buffer.extend(b for bodies in scene.by_kind.values() for b in bodies)
+        for body in buffer:
+            body.fence = NOWHERE  # a fence a grid gave it: here every move is heard
         self.boxes = {}
         self._drain(scene.tick, kinds)
 

@@ -1,9 +1,10 @@
 """The body store: every change to a body goes through it, so the broad phase hears of it.
 
 It keeps the live bodies of each kind in id order (the order contacts depend on) and by id,
-and hands every body added, moved, reshaped or removed to the move buffer of the broad phase
-attached to it (the broad phase owns the buffer and clears it when it answers, as Box2D's
-`b2BufferMove`). Nothing downstream guesses what changed.
+and hands every body added, removed, resized or moved out of its fence to the move buffer of
+the broad phase attached to it (the broad phase owns the buffer and clears it when it
+answers, and sets the fences, as Box2D's `b2BufferMove` and fat boxes). Nothing downstream
+guesses what changed.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from typing import Protocol
 
 import pygame
 
-from invaders.engine.body import Body
+from invaders.engine.body import NOWHERE, Body
 
 _ID = attrgetter("id")
 
@@ -54,7 +55,8 @@ class BodyStore:
     def add(self, body: Body) -> None:
         """A body appears (or comes back) this tick."""
         body.alive = True
-        body.shaped_tick = body.leapt_tick = self.tick
+        body.shaped_tick = self.tick
+        body.fence = NOWHERE  # until the broad phase gives it one
         bodies = self.by_kind[body.kind]
         self.size += 1
         self.membership += 1
@@ -68,28 +70,37 @@ class BodyStore:
             self._buffer.append(body)
 
     def move(self, body: Body, x: int, y: int) -> None:
-        """Move a body; the first move of a tick remembers where it started."""
+        """Move a body; the first move of a tick remembers where it started. The broad
+        phase hears of it if the box leaves its fence (the start was inside: it was the
+        end of a move seen before, or where the broad phase last put the fence)."""
         if body.moved_tick != self.tick:
             body.px = body.x
             body.py = body.y
             body.moved_tick = self.tick
-            if self._buffer is not None:
-                self._buffer.append(body)
         body.x = x
         body.y = y
+        buffer = self._buffer
+        if buffer is not None:
+            fence = body.fence
+            if not (fence[0] <= x and fence[1] <= y and x + body.w <= fence[2]
+                    and y + body.h <= fence[3]):
+                buffer.append(body)
 
     def move_from(self, body: Body, px: int, py: int, x: int, y: int) -> None:
-        """This tick the body went from (px, py) to (x, y) (for scenes played back)."""
-        if px != body.x or py != body.y:  # it did not start where it was
-            body.leapt_tick = self.tick
+        """This tick the body went from (px, py) to (x, y) (for scenes played back): the
+        broad phase hears of it unless both ends are inside the fence."""
         if (px, py) == (x, y):
             body.moved_tick = -1
         else:
             body.px, body.py, body.moved_tick = px, py, self.tick
         body.x = x
         body.y = y
-        if self._buffer is not None:
-            self._buffer.append(body)
+        buffer = self._buffer
+        if buffer is not None:
+            x0, y0, x1, y1 = body.fence
+            if not (x0 <= min(px, x) and y0 <= min(py, y) and max(px, x) + body.w <= x1
+                    and max(py, y) + body.h <= y1):
+                buffer.append(body)
 
     def reshape(self, body: Body, mask: pygame.mask.Mask) -> None:
         """A new picture. The tick's first instant is new for the body only if the picture
@@ -105,7 +116,6 @@ class BodyStore:
         body.mask = mask
         if size != (body.w, body.h):
             body.w, body.h = size
-            body.leapt_tick = self.tick
             if self._buffer is not None:
                 self._buffer.append(body)
 
