@@ -23,7 +23,7 @@ def test_the_target_is_the_first_alien_in_the_clear_then_lowest_then_nearest(pla
     in column order on a tie: the rule written as a sort key."""
     targets = [SimpleNamespace(x=x, y=y) for x, y in places]
     pilot = Autopilot(0)
-    pilot._shootable = lambda world: targets
+    pilot._columns = SimpleNamespace(shooters=lambda world, which: targets)
     pilot._shields = SimpleNamespace(lit=lambda world: lit)
     world = SimpleNamespace(saucer=SimpleNamespace(saucer=None),
                             cannon=SimpleNamespace(x=centre - 8))

@@ -73,12 +73,24 @@ class Autopilot:
         if cannon.state is not ACTIVE:
             return 0
         centre = cannon.x + 8
-        wish = self._wandering()
-        if wish is None:
-            wish = self._approach(world, centre)
-        move = self._choose(world, self._threats(world), wish)
+        # The steps of a tick, the usual cases inlined (calls cost more than most of them).
+        if self._wander > 0:  # drifting for a while, so games differ by seed
+            self._wander -= 1
+            wish = self._wander_dir
+        else:
+            if self.rng.random() < 0.004:
+                self._wander = self.rng.randint(10, 60)
+                self._wander_dir = self.rng.choice((-1, 1))
+            target = self._target_x(world)  # approach it
+            if target is None or -1 <= target - centre <= 1:
+                wish = 0
+            else:
+                wish = 1 if target > centre else -1
+        threats = self._threats(world)
+        move = self._choose(world, threats, wish) if threats else wish
         bits = LEFT if move < 0 else RIGHT if move > 0 else 0
-        fire = self._want_fire(world, centre)
+        fire = (not self._fire_held and world.shot is None
+                and self._want_fire(world, centre))
         self._fire_held = fire
         return bits | FIRE if fire else bits
 
@@ -130,8 +142,6 @@ class Autopilot:
 
     def _choose(self, world: World, threats, wish: int) -> int:
         """The wished move if it stays clear of every noticed bomb; else the safest move."""
-        if not threats:
-            return wish
         best, latest = wish, -1.0
         for d in MOVES_IN_ORDER[wish]:
             time = self._first_hit(world, threats, d)
@@ -141,16 +151,6 @@ class Autopilot:
                 best, latest = d, time
         return best
 
-    def _wandering(self) -> int | None:
-        """Now and then drift for a while, so games differ by seed."""
-        if self._wander > 0:
-            self._wander -= 1
-            return self._wander_dir
-        if self.rng.random() < 0.004:
-            self._wander = self.rng.randint(10, 60)
-            self._wander_dir = self.rng.choice((-1, 1))
-        return None
-
     def _target_x(self, world: World) -> int | None:
         """Where to put the cannon's centre this tick (worked out once per tick)."""
         tick = world.store.tick
@@ -159,12 +159,8 @@ class Autopilot:
             self._target = self._find_target(world)
         return self._target
 
-    def _shootable(self, world: World) -> list:
-        """The lowest live alien of each column this style shoots at."""
-        return self._columns.shooters(world, self.columns)
-
     def _find_target(self, world: World) -> int | None:
-        targets = self._shootable(world)
+        targets = self._columns.shooters(world, self.columns)  # the lowest of each column
         self._has_targets = bool(targets)
         if not targets:
             return _hiding_place(world)
@@ -192,15 +188,8 @@ class Autopilot:
                 return best_x
         return None
 
-    def _approach(self, world: World, centre: int) -> int:
-        target = self._target_x(world)
-        if target is None or abs(target - centre) <= 1:
-            return 0
-        return 1 if target > centre else -1
-
     def _want_fire(self, world: World, centre: int) -> bool:
-        if self._fire_held or world.shot is not None:
-            return False
+        """Whether to press fire, the shot being free and not held down last tick."""
         target = self._target_x(world)
         if target is None or not self._has_targets:
             return False  # nothing it is willing to shoot at: it is hiding
@@ -209,7 +198,7 @@ class Autopilot:
         if self.saucer_trick and world.shots_removed % 15 == 7 and (
                 world.saucer.saucer is None or not self._clear_column(world, centre)):
             return False
-        if self._shields.covers(world, centre) and not self._through_shields:
+        if not self._through_shields and centre in self._shields.lit(world):
             return False
         fire = abs(target - centre) <= 3 or self.rng.random() < 0.02
         if fire:
