@@ -311,8 +311,12 @@ class Detector:
         if plan is None:
             plan = self._plans[store.present] = self._plan(store)
         self._groups, self._zoned = plan
-        self._allowed = sum(len(side_a) * len(side_b) for _, side_a, side_b in self._groups)
-        self._quiet = self._quiet_counters(store.size, self._allowed)
+        allowed = 0
+        for _, side_a, side_b in self._groups:
+            allowed += len(side_a) * len(side_b)
+        self._allowed = allowed
+        n = store.size  # a body came or went: nearly always counters not seen before
+        self._quiet = _new(CollisionStats, (n, n * (n - 1) // 2, allowed, 0, 0, 0, 0, 0, 0, 0))
 
     def _quiet_counters(self, n: int, allowed: int) -> CollisionStats:
         """The counters of a tick with no candidate pair (kept: most ticks are one)."""
@@ -320,8 +324,8 @@ class Detector:
         if stats is None:
             if len(self._quiet_by_count) > 255:
                 self._quiet_by_count.clear()
-            stats = self._quiet_by_count[(n, allowed)] = CollisionStats(
-                n, n * (n - 1) // 2, allowed, 0, 0, 0, 0, 0, 0, 0)
+            stats = self._quiet_by_count[(n, allowed)] = _new(
+                CollisionStats, (n, n * (n - 1) // 2, allowed, 0, 0, 0, 0, 0, 0, 0))
         return stats
 
     def _plan(self, store: BodyStore
