@@ -33,12 +33,14 @@ from invaders.engine.store import BodyStore
 
 QuickTest = Callable[[tuple[int, int, int, int], tuple[int, int, int, int]], bool]
 BROADPHASES = ("grid", "brute", "sweep", "numpy", "auto")
-# Bodies from which the numpy broad phase beats the grid, as measured on storms on a 2-core
-# machine (ms of detection a tick, grid then numpy): `invaders study` (docs/study/
-# scaling.csv) 300 bodies 0.29 and 0.47, 1,000 0.83 and 0.68, 3,000 2.61 and 1.39, 10,000
-# 8.99 and 3.57. Timed as the bench times them (steady state, 7 interleaved rounds), storms
-# of 500, 700 and 900 bodies gave the grid's time over numpy's as 0.87, 1.06 and 1.23: the
-# two meet near 650 bodies, and the switch sits a little above.
+# Bodies from which the numpy broad phase beats the grid, as measured on storms on 2-core
+# machines (ms of detection a tick, grid then numpy). `invaders study` (docs/study/
+# scaling.csv, each a median of three plays): 300 bodies 0.76 and 1.15, 1,000 1.79 and 2.21,
+# 3,000 10.59 and 3.87, 10,000 24.35 and 9.45; `invaders bench --big` (20 interleaved
+# rounds) at 1,000: 2.47 and 2.24. Timed as the bench times them on a quieter machine
+# (steady state, 7 interleaved rounds), storms of 500, 700 and 900 bodies gave the grid's
+# time over numpy's as 0.87, 1.06 and 1.23. The two meet between about 650 and 1,000
+# bodies, and the switch sits between.
 NUMPY_FROM = 800
 NUMPY_UNTIL = 600  # below this an automatic choice goes back to the grid (no flapping)
 SWEPT, LANDING = Motion.SWEPT, Motion.LANDING  # an enum member by name costs a slow look-up
