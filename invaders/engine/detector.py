@@ -282,15 +282,15 @@ class Detector:
             else:
                 point = (max(a.x, b.x), max(a.y, b.y))
             if motion is LANDING:
-                contacts.append(Contact(tick, END, a.id, b.id, a.kind, b.kind, a.x, a.y,
-                                        b.x, b.y, *point, rule))
+                contacts.append(_new(Contact, (tick, END, a.id, b.id, a.kind, b.kind, a.x,
+                                               a.y, b.x, b.y, *point, rule)))
                 continue
             # Discrete: found where they landed; its time is when they first touched.
             walked = self._walk(a, b, rule, tick, *a.start_of_tick(tick),
                                 *b.start_of_tick(tick))
             time = walked.time if walked is not None else END
-            contacts.append(Contact(tick, time, a.id, b.id, a.kind, b.kind, a.x, a.y, b.x, b.y,
-                                    *point, rule))
+            contacts.append(_new(Contact, (tick, time, a.id, b.id, a.kind, b.kind, a.x, a.y,
+                                           b.x, b.y, *point, rule)))
         if len(contacts) > 1:
             contacts.sort(key=contact_order)
         stats = _new(CollisionStats, (n, n * (n - 1) // 2, allowed, len(pairs), rect_tests,
@@ -389,8 +389,8 @@ class Detector:
             ax, ay = _at(apx, apy, a.x, a.y, step, steps)
             sx, sy = predicates.substeps(dx, dy)[step]
             bx, by = ax + ox + sx, ay + oy + sy
-            return Contact(tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
-                           ax, ay, bx, by, ax + hx, ay + hy, rule)
+            return _new(Contact, (tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
+                                  ax, ay, bx, by, ax + hx, ay + hy, rule))
         # b erodes (a shield): sweep a against it instead, so only shared masks are swept.
         found = predicates.first_swept_contact(b_mask, a_mask, -ox, -oy, -dx, -dy, fresh)
         if found is None:
@@ -399,8 +399,8 @@ class Detector:
         bx, by = _at(bpx, bpy, b.x, b.y, step, steps)
         sx, sy = predicates.substeps(-dx, -dy)[step]
         ax, ay = bx - ox + sx, by - oy + sy
-        return Contact(tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
-                       ax, ay, bx, by, bx + hx, by + hy, rule)
+        return _new(Contact, (tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
+                              ax, ay, bx, by, bx + hx, by + hy, rule))
 
 
 def _tested_in_zone(scene: Scene, kind: int, zone: ZoneIndex, kinds: KindSets) -> list[Body]:

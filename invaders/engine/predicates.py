@@ -108,7 +108,9 @@ def first_swept_contact(
     if steps == 0:
         hit = fixed.overlap(moving, (ox, oy))
         return None if hit is None else (0, 0, hit)
-    swept = swept_mask(moving, dx, dy)
+    swept = _swept_cache.get((moving, dx, dy))  # swept_mask's own cache, read first
+    if swept is None:
+        swept = swept_mask(moving, dx, dy)
     if fixed.overlap(swept, (ox + dx if dx < 0 else ox, oy + dy if dy < 0 else oy)) is None:
         return None
     path = substeps(dx, dy)
