@@ -77,6 +77,25 @@ def test_closing_the_lab_on_the_default_method_gives_the_game_its_own_detector_b
     assert type(world.detector) is Detector and world.detector.observers == []
 
 
+def test_a_detector_put_away_is_fed_no_more():
+    """Switching the world from its grid to a sampled method (which detects on a scene of
+    its own) or to brute force, and back and forth: the grids put away are fed no moves
+    (their buffers stay empty, where they grew every tick before)."""
+    for choice in (Choice(sampling=4), Choice(broad="brute")):
+        world = World(seed=3)
+        for _ in range(200):
+            world.step(RIGHT | FIRE)
+        old = world.detector.broadphase
+        install(world, choice, world.config)
+        install(world, Choice(), world.config, shadow=False)  # the game's own, back
+        returned = world.detector.broadphase
+        install(world, choice, world.config)
+        for _ in range(300):
+            world.step(RIGHT | FIRE)
+        assert old.move_buffer == [] and returned.move_buffer == []
+        assert world.store.listener is not old and world.store.listener is not returned
+
+
 def _shot_through_the_first_shield(choice: Choice):
     """Under the first shield's fifth column, fire once at the choice's speeds."""
     world = active_world()

@@ -47,6 +47,12 @@ class BodyStore:
         self.listener = listener
         self._buffer = listener.move_buffer
 
+    def detach(self) -> None:
+        """Stop feeding the broad phase attached (its detector was put away): nothing is
+        kept for it any more, and the next one to detect attaches itself afresh."""
+        self.listener = None
+        self._buffer = None
+
     def new_id(self) -> int:
         body_id = self.next_id
         self.next_id += 1

@@ -298,8 +298,11 @@ def install(world: World, choice: Choice, base: GameConfig, shadow: bool = True,
             clock: Callable[[], float] | None = None) -> Detector | LabDetector:
     """Put a choice into the world from its next tick: the projectiles' speeds (over the
     `base` config) and the detector. The game's own method, unwatched, gets the game's
-    own detector back, so a lab that is off costs nothing."""
+    own detector back, so a lab that is off costs nothing. The store stops feeding the
+    detector put away (else its move buffer would only grow); the new one attaches itself
+    on its first tick if it keeps state."""
     world.config = at_speed(base, choice.speed)
+    world.store.detach()
     if choice.is_default and choice.speed == 1 and not shadow and clock is None:
         detector: Detector | LabDetector = Detector(
             make_broadphase(choice.broad, choice.cell), world.rules)
