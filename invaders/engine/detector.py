@@ -37,7 +37,7 @@ BROADPHASES = ("grid", "brute", "sweep", "numpy", "auto")
 # machines (ms of detection a tick, grid then numpy). `invaders study` (docs/study/
 # scaling.csv, each a median of three plays): 300 bodies 0.76 and 1.15, 1,000 1.79 and 2.21,
 # 3,000 10.59 and 3.87, 10,000 24.35 and 9.45; `invaders bench --big` (20 interleaved
-# rounds) at 1,000: 2.47 and 2.24. Timed as the bench times them on a quieter machine
+# rounds) at 1,000: 2.46 and 1.98. Timed as the bench times them on a quieter machine
 # (steady state, 7 interleaved rounds), storms of 500, 700 and 900 bodies gave the grid's
 # time over numpy's as 0.87, 1.06 and 1.23. The two meet between about 650 and 1,000
 # bodies, and the switch sits between.
