@@ -108,8 +108,10 @@ class GridAgainstBrute(RuleBasedStateMachine):
     @rule(kind=st.sampled_from(KINDS), shape=st.integers(0, len(SHAPES) - 1),
           x=st.integers(-40, 260), y=st.integers(-40, 290))
     def add(self, kind, shape, x, y):
-        body = Body(self.store.new_id(), kind, x, y, SHAPES[shape])
-        self.store.add(body)
+        self._add(kind, shape, x, y)
+
+    def _add(self, kind, shape, x, y):
+        self.store.add(Body(self.store.new_id(), kind, x, y, SHAPES[shape]))
 
     def _bodies(self) -> list[Body]:
         return [b for bodies in self.store.by_kind.values() for b in bodies]
@@ -117,6 +119,9 @@ class GridAgainstBrute(RuleBasedStateMachine):
     @precondition(lambda self: self.store.count() > 0)
     @rule(pick=st.integers(0, 10**6), dx=st.integers(-40, 40), dy=st.integers(-40, 40))
     def move(self, pick, dx, dy):
+        self._move(pick, dx, dy)
+
+    def _move(self, pick, dx, dy):
         bodies = self._bodies()
         body = bodies[pick % len(bodies)]
         self.store.move(body, body.x + dx, body.y + dy)
@@ -212,14 +217,12 @@ class SwitchingAgainstBrute(GridAgainstBrute):
     @rule(kind=st.sampled_from(KINDS), shape=st.integers(0, len(SHAPES) - 1),
           x=st.integers(0, 48), y=st.integers(0, 48))
     def add(self, kind, shape, x, y):
-        self.store.add(Body(self.store.new_id(), kind, x, y, SHAPES[shape]))
+        self._add(kind, shape, x, y)
 
     @precondition(lambda self: self.store.count() > 0)
     @rule(pick=st.integers(0, 10**6), dx=st.integers(-6, 6), dy=st.integers(-6, 6))
     def move(self, pick, dx, dy):
-        bodies = self._bodies()
-        body = bodies[pick % len(bodies)]
-        self.store.move(body, body.x + dx, body.y + dy)
+        self._move(pick, dx, dy)
 
     @rule(to_numpy=st.booleans(), cell=st.sampled_from((16, 32, 64)))
     def switch(self, to_numpy, cell):
