@@ -15,8 +15,8 @@ so the contacts are the same as with every other broad phase.
 
 from __future__ import annotations
 
+import struct
 from collections.abc import Sequence
-from itertools import chain
 from typing import Protocol
 
 import numpy as np
@@ -107,24 +107,23 @@ def _boxes(bodies: list[Body], slot: dict[int, int], tick: int,
     """The bodies' rows, boxes (as `tick_box` gives them) and for each the tick whose
     motion its box spans (-1: none, so it stays exact while it rests), worked out together.
     A body with no row yet gets -1. A body listed twice gets the same row twice: it is read
-    as it is now. (The attributes are read into one flat list and handed to numpy in one
-    go: turning a list of tuples into an array costs numpy about twice as much as reading
-    the bodies.)"""
-    n = len(bodies)
+    as it is now. (Each body's fields are packed as C integers by `struct` and the bytes
+    handed to numpy at once: about half what numpy takes to read the same ints from an
+    iterator.)"""
     get = slot.get
     if not swept:
-        raw = np.fromiter(chain.from_iterable([(get(b.id, -1), b.x, b.y, b.w, b.h)
-                                               for b in bodies]), np.int64, 5 * n)
-        raw = raw.reshape(n, 5)
+        pack = _PACK_RESTING
+        raw = np.frombuffer(b"".join([pack(get(b.id, -1), b.x, b.y, b.w, b.h)
+                                      for b in bodies]), np.int64).reshape(-1, 5)
         x, y = raw[:, 1], raw[:, 2]
-        out = np.empty((n, 4), dtype=np.int64)
+        out = np.empty((len(raw), 4), dtype=np.int64)
         out[:, 0], out[:, 1], out[:, 2], out[:, 3] = x, y, x + raw[:, 3], y + raw[:, 4]
-        return raw[:, 0], out, np.full(n, -1, dtype=np.int64)
-    raw = np.fromiter(chain.from_iterable([(get(b.id, -1), b.x, b.y, b.w, b.h, b.px, b.py,
-                                            b.moved_tick) for b in bodies]), np.int64, 8 * n)
-    raw = raw.reshape(n, 8)
+        return raw[:, 0].copy(), out, np.full(len(raw), -1, dtype=np.int64)
+    pack = _PACK_SWEPT
+    raw = np.frombuffer(b"".join([pack(get(b.id, -1), b.x, b.y, b.w, b.h, b.px, b.py,
+                                       b.moved_tick) for b in bodies]), np.int64).reshape(-1, 8)
     x, y, w, h = raw[:, 1], raw[:, 2], raw[:, 3], raw[:, 4]
-    out = np.empty((n, 4), dtype=np.int64)
+    out = np.empty((len(raw), 4), dtype=np.int64)
     moved = raw[:, 7] == tick
     px = np.where(moved, raw[:, 5], x)
     py = np.where(moved, raw[:, 6], y)
@@ -132,7 +131,11 @@ def _boxes(bodies: list[Body], slot: dict[int, int], tick: int,
     out[:, 1] = np.minimum(y, py)
     out[:, 2] = np.maximum(x, px) + w
     out[:, 3] = np.maximum(y, py) + h
-    return raw[:, 0], out, np.where(moved, tick, -1)
+    return raw[:, 0].copy(), out, np.where(moved, tick, -1)
+
+
+_PACK_RESTING = struct.Struct("5q").pack  # row, x, y, w, h as native int64
+_PACK_SWEPT = struct.Struct("8q").pack  # and px, py, moved_tick
 
 
 def _cells(xy: np.ndarray, cell: int) -> tuple[np.ndarray, np.ndarray]:
