@@ -45,6 +45,8 @@ NUMPY_FROM = 800
 NUMPY_UNTIL = 600  # below this an automatic choice goes back to the grid (no flapping)
 SWEPT, LANDING = Motion.SWEPT, Motion.LANDING  # an enum member by name costs a slow look-up
 _solid_mask = predicates.solid_mask
+_kept_swept_mask = predicates.kept_swept_mask
+_first_touch = predicates.first_touch
 _new = tuple.__new__  # a NamedTuple from a tuple: half the cost of its own constructor
 
 
@@ -264,7 +266,7 @@ class Detector:
                     continue
                 rect_hits += 1
                 swept_tests += 1
-                contact = self._walk(a, b, rule, tick, apx, apy, bpx, bpy)
+                contact = self._walk(a, b, rule, tick, apx, apy, ox, oy, dx, dy)
                 if contact is not None:
                     contacts.append(contact)
                 continue
@@ -286,8 +288,10 @@ class Detector:
                                                a.y, b.x, b.y, *point, rule)))
                 continue
             # Discrete: found where they landed; its time is when they first touched.
-            walked = self._walk(a, b, rule, tick, *a.start_of_tick(tick),
-                                *b.start_of_tick(tick))
+            apx, apy = a.start_of_tick(tick)
+            bpx, bpy = b.start_of_tick(tick)
+            walked = self._walk(a, b, rule, tick, apx, apy, bpx - apx, bpy - apy,
+                                (b.x - bpx) - (a.x - apx), (b.y - bpy) - (a.y - apy))
             time = walked.time if walked is not None else END
             contacts.append(_new(Contact, (tick, time, a.id, b.id, a.kind, b.kind, a.x, a.y,
                                            b.x, b.y, *point, rule)))
@@ -370,19 +374,25 @@ class Detector:
         return groups, allowed
 
     def _walk(self, a: Body, b: Body, rule: PairRule, tick: int, apx: int, apy: int,
-              bpx: int, bpy: int) -> Contact | None:
-        """The pixel walk along the pair's relative motion from their starts (apx, apy)
-        and (bpx, bpy): the first touch, or None. (The quick test is the caller's.)"""
-        ox = bpx - apx  # b relative to a at the tick's start
-        oy = bpy - apy
-        dx = (b.x - bpx) - (a.x - apx)
-        dy = (b.y - bpy) - (a.y - apy)
+              ox: int, oy: int, dx: int, dy: int) -> Contact | None:
+        """The pixel walk along the pair's relative motion (dx, dy), from a's start (apx,
+        apy) with b at (ox, oy) from it: the first touch, or None. (The quick test is the
+        caller's.) Only the side that never erodes is swept, so its swept mask can be kept;
+        the swept mask's test, `predicates.first_swept_contact`'s first step, is inlined:
+        most walks end there."""
         masked = rule.masked  # _shape_mask, inlined
         a_mask = a.mask if a.kind in masked else _solid_mask(a.w, a.h)
         b_mask = b.mask if b.kind in masked else _solid_mask(b.w, b.h)
         fresh = a.shaped_tick == tick or b.shaped_tick == tick
         if b.kind not in self.eroding:
-            found = predicates.first_swept_contact(a_mask, b_mask, ox, oy, dx, dy, fresh)
+            if dx or dy:
+                swept = _kept_swept_mask((b_mask, dx, dy))
+                if swept is None:
+                    swept = predicates.swept_mask(b_mask, dx, dy)
+                if a_mask.overlap(swept, (ox + dx if dx < 0 else ox,
+                                          oy + dy if dy < 0 else oy)) is None:
+                    return None
+            found = _first_touch(a_mask, b_mask, ox, oy, dx, dy, fresh)
             if found is None:
                 return None
             step, steps, (hx, hy) = found
@@ -391,12 +401,12 @@ class Detector:
             bx, by = ax + ox + sx, ay + oy + sy
             return _new(Contact, (tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
                                   ax, ay, bx, by, ax + hx, ay + hy, rule))
-        # b erodes (a shield): sweep a against it instead, so only shared masks are swept.
+        # b erodes (a shield): sweep a against it instead.
         found = predicates.first_swept_contact(b_mask, a_mask, -ox, -oy, -dx, -dy, fresh)
         if found is None:
             return None
         step, steps, (hx, hy) = found
-        bx, by = _at(bpx, bpy, b.x, b.y, step, steps)
+        bx, by = _at(apx + ox, apy + oy, b.x, b.y, step, steps)
         sx, sy = predicates.substeps(-dx, -dy)[step]
         ax, ay = bx - ox + sx, by - oy + sy
         return _new(Contact, (tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,

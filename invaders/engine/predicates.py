@@ -63,6 +63,7 @@ def round_div(num: int, den: int) -> int:
 
 
 _swept_cache: dict[tuple[pygame.mask.Mask, int, int], pygame.mask.Mask] = {}
+kept_swept_mask = _swept_cache.get  # (mask, dx, dy) -> swept mask or None: hot paths look first
 
 
 def swept_mask(mask: pygame.mask.Mask, dx: int, dy: int) -> pygame.mask.Mask:
@@ -103,16 +104,26 @@ def first_swept_contact(
     Returns (step, steps, pixel in fixed's coordinates), or None. One test of the swept
     mask answers most calls; only a hit walks the substeps to find the first.
     """
+    if dx or dy:
+        swept = _swept_cache.get((moving, dx, dy))  # swept_mask's own cache, read first
+        if swept is None:
+            swept = swept_mask(moving, dx, dy)
+        if fixed.overlap(swept, (ox + dx if dx < 0 else ox, oy + dy if dy < 0 else oy)) is None:
+            return None
+    return first_touch(fixed, moving, ox, oy, dx, dy, from_start)
+
+
+def first_touch(
+    fixed: pygame.mask.Mask, moving: pygame.mask.Mask, ox: int, oy: int, dx: int, dy: int,
+    from_start: bool,
+) -> tuple[int, int, Point] | None:
+    """`first_swept_contact`'s walk alone, for a caller that has found the swept mask
+    meets `fixed`: the substeps tried in order (a motion of none is its start)."""
     ax, ay = (dx if dx >= 0 else -dx), (dy if dy >= 0 else -dy)
     steps = ax if ax >= ay else ay
     if steps == 0:
         hit = fixed.overlap(moving, (ox, oy))
         return None if hit is None else (0, 0, hit)
-    swept = _swept_cache.get((moving, dx, dy))  # swept_mask's own cache, read first
-    if swept is None:
-        swept = swept_mask(moving, dx, dy)
-    if fixed.overlap(swept, (ox + dx if dx < 0 else ox, oy + dy if dy < 0 else oy)) is None:
-        return None
     path = substeps(dx, dy)
     for i in range(0 if from_start else 1, steps + 1):
         sx, sy = path[i]
