@@ -313,7 +313,7 @@ class NumpyGrid:
         if self.move_buffer:
             self._drain(scene.tick, kinds)
         boxes = self.boxes
-        lows, highs, rules, low_ids, high_ids = [], [], [], [], []
+        ids_a, ids_b, found_a, found_b, rules, counts = [], [], [], [], [], []
         for rule, side_a, side_b in groups:
             table_a, table_b = boxes.get(rule.a), boxes.get(rule.b)
             if table_a is None or table_b is None or not side_a or not side_b:
@@ -327,24 +327,30 @@ class NumpyGrid:
                              table_b.index(self.cell) if whole_b else None)
             if not len(i):
                 continue
-            ida, idb = table_a.ids[a_rows][i], table_b.ids[b_rows][j]
-            bodies_a, bodies_b = table_a.objects[a_rows][i], table_b.objects[b_rows][j]
+            ida, idb = table_a.ids[a_rows].take(i), table_b.ids[b_rows].take(j)
+            bodies_a, bodies_b = table_a.objects[a_rows].take(i), table_b.objects[b_rows].take(j)
             if rule.a == rule.b:  # a pair of one kind: once, and never a body with itself
                 keep = ida < idb
                 ida, idb, bodies_a, bodies_b = ida[keep], idb[keep], bodies_a[keep], bodies_b[keep]
-            a_low = ida < idb
-            lows.append(np.where(a_low, bodies_a, bodies_b))
-            highs.append(np.where(a_low, bodies_b, bodies_a))
-            low_ids.append(np.where(a_low, ida, idb))
-            high_ids.append(np.where(a_low, idb, ida))
-            rules.append(np.full(len(ida), rule, dtype=object))
-        if not lows:
+            ids_a.append(ida)
+            ids_b.append(idb)
+            found_a.append(bodies_a)
+            found_b.append(bodies_b)
+            rules.append(rule)
+            counts.append(len(ida))
+        if not rules:
             return []
         # One list of (low, high, entry), sorted by ids, built by numpy rather than per pair.
-        order = np.lexsort((np.concatenate(high_ids), np.concatenate(low_ids)))
-        return list(zip(np.concatenate(lows)[order].tolist(),
-                        np.concatenate(highs)[order].tolist(),
-                        np.concatenate(rules)[order].tolist(), strict=True))
+        ida, idb = np.concatenate(ids_a), np.concatenate(ids_b)
+        swap = ida > idb
+        order = np.lexsort((np.where(swap, ida, idb), np.where(swap, idb, ida)))
+        bodies_a, bodies_b = np.concatenate(found_a), np.concatenate(found_b)
+        entries = np.empty(len(rules), dtype=object)
+        for k, rule in enumerate(rules):
+            entries[k] = rule
+        return list(zip(np.where(swap, bodies_b, bodies_a).take(order).tolist(),
+                        np.where(swap, bodies_a, bodies_b).take(order).tolist(),
+                        entries.repeat(counts).take(order).tolist(), strict=True))
 
     @staticmethod
     def _rows(table: Boxes, side: Sequence[Body]) -> slice | list[int]:
