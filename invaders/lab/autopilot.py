@@ -106,7 +106,10 @@ class Autopilot:
             bomb = slot.bomb
             if bomb is None:
                 continue
-            if not self._noticed.setdefault(bomb.id, self.rng.random() < self.skill):
+            noticed = self._noticed.get(bomb.id)
+            if noticed is None:  # seen for the first time: noticed or not, once for all
+                noticed = self._noticed[bomb.id] = self.rng.random() < self.skill
+            if not noticed:
                 continue
             if bomb.y >= cannon.y + cannon.h:
                 continue
