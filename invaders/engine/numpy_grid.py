@@ -40,9 +40,9 @@ class ZoneTest(Protocol):
 class Boxes:
     """One kind's bodies and their boxes, row i of the arrays being `objects[i]`."""
 
-    def __init__(self) -> None:
+    def __init__(self, slot: dict[int, int]) -> None:
         self.n = 0
-        self.slot: dict[int, int] = {}
+        self.slot = slot  # body id -> row, shared by the kinds' tables (ids are unique)
         self.xy = np.zeros((64, 4), dtype=np.int64)  # x0, y0, x1, y1
         self.ids = np.zeros(64, dtype=np.int64)  # each row's body id, for sorting in bulk
         self.objects = np.empty(64, dtype=object)  # the body of each row, picked in bulk
@@ -102,40 +102,33 @@ class Boxes:
         self.version += 1
 
 
-def _boxes(bodies: list[Body], slot: dict[int, int], tick: int,
-           swept: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The bodies' rows, boxes (as `tick_box` gives them) and for each the tick whose
-    motion its box spans (-1: none, so it stays exact while it rests), worked out together.
-    A body with no row yet gets -1. A body listed twice gets the same row twice: it is read
-    as it is now. (Each body's fields are packed as C integers by `struct` and the bytes
-    handed to numpy at once: about half what numpy takes to read the same ints from an
-    iterator.)"""
+def _read(bodies: list[Body], slot: dict[int, int]) -> np.ndarray:
+    """One row a body: kind, row in its table (-1: none yet, or gone), x, y, w, h, px, py,
+    moved_tick, read as it is now (so a body listed twice is read the same twice). The
+    fields are packed as C integers by `struct` and the bytes handed to numpy at once:
+    about half what numpy takes to read the same ints from an iterator."""
     get = slot.get
-    if not swept:
-        pack = _PACK_RESTING
-        raw = np.frombuffer(b"".join([pack(get(b.id, -1), b.x, b.y, b.w, b.h)
-                                      for b in bodies]), np.int64).reshape(-1, 5)
-        x, y = raw[:, 1], raw[:, 2]
-        out = np.empty((len(raw), 4), dtype=np.int64)
-        out[:, 0], out[:, 1], out[:, 2], out[:, 3] = x, y, x + raw[:, 3], y + raw[:, 4]
-        return raw[:, 0].copy(), out, np.full(len(raw), -1, dtype=np.int64)
-    pack = _PACK_SWEPT
-    raw = np.frombuffer(b"".join([pack(get(b.id, -1), b.x, b.y, b.w, b.h, b.px, b.py,
-                                       b.moved_tick) for b in bodies]), np.int64).reshape(-1, 8)
-    x, y, w, h = raw[:, 1], raw[:, 2], raw[:, 3], raw[:, 4]
+    pack = _PACK
+    return np.frombuffer(b"".join([pack(b.kind, get(b.id, -1) if b.alive else -1, b.x, b.y,
+                                        b.w, b.h, b.px, b.py, b.moved_tick)
+                                   for b in bodies]), np.int64).reshape(-1, 9)
+
+
+_PACK = struct.Struct("9q").pack  # as native int64s
+
+
+def _tick_boxes(raw: np.ndarray, moved: np.ndarray) -> np.ndarray:
+    """Boxes (x0, y0, x1, y1) of rows `_read` gave, over the tick's motion where `moved`
+    (as `tick_box` gives them)."""
+    x, y = raw[:, 2], raw[:, 3]
+    px = np.where(moved, raw[:, 6], x)
+    py = np.where(moved, raw[:, 7], y)
     out = np.empty((len(raw), 4), dtype=np.int64)
-    moved = raw[:, 7] == tick
-    px = np.where(moved, raw[:, 5], x)
-    py = np.where(moved, raw[:, 6], y)
     out[:, 0] = np.minimum(x, px)
     out[:, 1] = np.minimum(y, py)
-    out[:, 2] = np.maximum(x, px) + w
-    out[:, 3] = np.maximum(y, py) + h
-    return raw[:, 0].copy(), out, np.where(moved, tick, -1)
-
-
-_PACK_RESTING = struct.Struct("5q").pack  # row, x, y, w, h as native int64
-_PACK_SWEPT = struct.Struct("8q").pack  # and px, py, moved_tick
+    out[:, 2] = np.maximum(x, px) + raw[:, 4]
+    out[:, 3] = np.maximum(y, py) + raw[:, 5]
+    return out
 
 
 def _cells(xy: np.ndarray, cell: int) -> tuple[np.ndarray, np.ndarray]:
@@ -232,6 +225,7 @@ class NumpyGrid:
         self.cell = cell
         self.move_buffer: list[Body] = []
         self.boxes: dict[int, Boxes] = {}
+        self.slot: dict[int, int] = {}  # body id -> its row in its kind's table
         self._zones: dict[int, tuple[ZoneTest, np.ndarray, CellIndex]] = {}
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
@@ -241,43 +235,59 @@ class NumpyGrid:
         for body in buffer:
             body.fence = NOWHERE  # a fence a grid gave it: here every move is heard
         self.boxes = {}
+        self.slot = {}
         self._drain(scene.tick, kinds)
 
     def _drain(self, tick: int, kinds: KindSets) -> None:
-        """Apply the move buffer: rows removed and added as it says, then the boxes of the
-        live bodies in it written at once, kind by kind (each read as it is now, so one
-        that went is in no list, and one listed twice gets the same box twice)."""
+        """Apply the move buffer: the rows of bodies that went removed, then every body in
+        it read at once, rows added for the new ones, and the boxes written kind by kind
+        (a swept kind's over its motion this tick, if it moved)."""
         boxes = self.boxes
-        live: dict[int, list[Body]] = {}
-        gone = []
-        for body in self.move_buffer:
-            if body.alive:
-                bodies = live.get(body.kind)
-                if bodies is None:
-                    live[body.kind] = [body]
-                else:
-                    bodies.append(body)
-            else:
-                gone.append(body)
-        self.move_buffer.clear()
-        for body in gone:
-            table = boxes.get(body.kind)
-            if table is not None and body.id in table.slot:
-                table.remove(body)
-        swept = kinds.swept
-        for kind, bodies in live.items():
-            table = boxes.get(kind)
-            if table is None:
-                table = boxes[kind] = Boxes()
-            rows, xy, spans = _boxes(bodies, table.slot, tick, kind in swept)
-            if rows.min() < 0:  # new bodies: rows for them first
-                for k in np.flatnonzero(rows < 0).tolist():
-                    body = bodies[k]
-                    if body.id not in table.slot:
+        slot = self.slot
+        buffer = self.move_buffer
+        for body in [b for b in buffer if not b.alive]:
+            if body.id in slot:
+                boxes[body.kind].remove(body)
+        raw = _read(buffer, slot)
+        rows = raw[:, 1]
+        new = np.flatnonzero(rows < 0)
+        if len(new):  # rows for the bodies new to the tables; the gone ones are left out
+            rows = rows.copy()
+            for k in new.tolist():
+                body = buffer[k]
+                if body.alive:
+                    if body.id not in slot:
+                        table = boxes.get(body.kind)
+                        if table is None:
+                            table = boxes[body.kind] = Boxes(slot)
                         table.add(body)
-                    rows[k] = table.slot[body.id]
-            table.xy[rows] = xy
-            table.swept_at[rows] = spans
+                    rows[k] = slot[body.id]
+            live = np.flatnonzero(rows >= 0)
+            if len(live) < len(rows):
+                raw, rows = raw.take(live, axis=0), rows.take(live)
+        buffer.clear()
+        if not len(raw):
+            return
+        kind = raw[:, 0]
+        one = int(kind.min()) == int(kind.max())  # one kind moved: no picking apart
+        present = [int(kind[0])] if one else distinct(kind).tolist()
+        swept = kinds.swept
+        moved = raw[:, 8] == tick
+        for k in present:
+            if k not in swept:
+                moved &= kind != k
+        xy = _tick_boxes(raw, moved)
+        spans = np.where(moved, tick, -1)
+        for k in present:
+            table = boxes[k]
+            if one:
+                table.xy[rows] = xy
+                table.swept_at[rows] = spans
+            else:
+                pick = np.flatnonzero(kind == k)
+                at = rows.take(pick)
+                table.xy[at] = xy.take(pick, axis=0)
+                table.swept_at[at] = spans.take(pick)
             table.version += 1
 
     def in_zone(self, scene: Scene, kind: int, zone: ZoneTest, kinds: KindSets) -> list[Body]:
