@@ -27,6 +27,7 @@ from invaders.engine.grid import DEFAULT_CELL
 
 STRIDE = 1 << 21  # cell key = cy * STRIDE + cx, with cells offset to be non-negative
 OFFSET = 1 << 20
+BEYOND = np.iinfo(np.int64).max  # no cell's key
 
 
 class ZoneTest(Protocol):
@@ -161,8 +162,9 @@ CellIndex = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool]
 
 
 def _index(keys: np.ndarray, rows: np.ndarray, boxes: int) -> CellIndex:
-    """Cells to look up: each distinct key once, sorted, with where its rows start in the
-    rows sorted by key and how many there are; and whether each row has one cell."""
+    """Cells to look up: each distinct key once, sorted (and then `BEYOND`), with where its
+    rows start in the rows sorted by key and how many there are; and whether each row has
+    one cell."""
     order = np.argsort(keys)  # any order within a key: the pairs are sorted by ids later
     keys, by_key = keys[order], rows[order]
     if not len(keys):
@@ -170,7 +172,8 @@ def _index(keys: np.ndarray, rows: np.ndarray, boxes: int) -> CellIndex:
     starts = np.flatnonzero(np.concatenate(([True], keys[1:] != keys[:-1])))
     counts = np.diff(np.append(starts, len(keys)))
     single = len(rows) == boxes
-    return keys[starts], starts, counts, by_key, single
+    # A key above every cell's ends the distinct keys, so a search never runs off them.
+    return np.append(keys[starts], BEYOND), starts, counts, by_key, single
 
 
 def distinct(values: np.ndarray) -> np.ndarray:
@@ -193,7 +196,7 @@ def box_pairs(a: np.ndarray, b: np.ndarray, cell: int,
     if not len(keys) or not len(ka):
         empty = np.zeros(0, dtype=np.int64)
         return empty, empty
-    at = np.minimum(np.searchsorted(keys, ka), len(keys) - 1)
+    at = np.searchsorted(keys, ka)  # at most the sentinel's place: see `_index`
     has = keys.take(at) == ka
     if not has.any():
         empty = np.zeros(0, dtype=np.int64)
@@ -202,7 +205,7 @@ def box_pairs(a: np.ndarray, b: np.ndarray, cell: int,
     ra, lo, n = ra[has], starts.take(at), counts.take(at)
     total = int(n.sum())
     i = np.repeat(ra, n)
-    j = rb[np.repeat(lo, n) + np.arange(total) - np.repeat(np.cumsum(n) - n, n)]
+    j = rb.take(np.repeat(lo - (np.cumsum(n) - n), n) + np.arange(total))
     ai, bj = a.take(i, axis=0), b.take(j, axis=0)  # `take`: ~4x `a[i]` on rows of 4
     hit = ((ai[:, 0] < bj[:, 2]) & (bj[:, 0] < ai[:, 2])
            & (ai[:, 1] < bj[:, 3]) & (bj[:, 1] < ai[:, 3]))
