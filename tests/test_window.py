@@ -72,9 +72,13 @@ def test_a_replays_end_shows_the_verdict_and_enter_asks_for_a_game():
     session.handle(_key(pygame.KEYDOWN, pygame.K_RETURN))
     assert session.start_requested
     changed = record_headless(World(seed=2), Autopilot(2), 240)
-    changed.inputs.insert(-1, [int(Action.RIGHT), 20])  # twenty more ticks of moving right
-    changed.inputs[-1][1] -= 20  # (taken from the last run: the same length)
-    assert _watch_to_the_end(changed).replay_verdict().startswith("DIFFERS FROM TICK ")
+    bits = [b for b, count in changed.inputs for _ in range(count)]
+    first = next(t for t, b in enumerate(bits) if b & Action.RIGHT)
+    bits[first:first + 20] = [int(Action.LEFT)] * 20  # twenty ticks the other way
+    changed.inputs = []
+    for b in bits:
+        changed.append(b)
+    assert len(bits) == 240 and _watch_to_the_end(changed).replay_verdict().startswith("DIFFERS FROM TICK ")
 
 
 def test_without_a_display_play_refuses_in_one_line():
