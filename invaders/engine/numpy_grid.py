@@ -104,15 +104,15 @@ class Boxes:
 
 
 def _read(bodies: list[Body], slot: dict[int, int]) -> np.ndarray:
-    """One row a body: kind, row in its table (-1: none yet, or gone), x, y, w, h, px, py,
-    moved_tick, read as it is now (so a body listed twice is read the same twice). The
-    fields are packed as C integers by `struct` and the bytes handed to numpy at once:
-    about half what numpy takes to read the same ints from an iterator."""
+    """One row a body: kind, row in its table (-1: none, as for one that went once its row
+    is removed), x, y, w, h, px, py, moved_tick, read as it is now (so a body listed twice
+    is read the same twice). The fields are packed as C integers by `struct` and the bytes
+    handed to numpy at once: about half what numpy takes to read the same ints from an
+    iterator."""
     get = slot.get
     pack = _PACK
-    return np.frombuffer(b"".join([pack(b.kind, get(b.id, -1) if b.alive else -1, b.x, b.y,
-                                        b.w, b.h, b.px, b.py, b.moved_tick)
-                                   for b in bodies]), np.int64).reshape(-1, 9)
+    return np.frombuffer(b"".join([pack(b.kind, get(b.id, -1), b.x, b.y, b.w, b.h, b.px, b.py,
+                                        b.moved_tick) for b in bodies]), np.int64).reshape(-1, 9)
 
 
 _PACK = struct.Struct("9q").pack  # as native int64s
