@@ -11,14 +11,15 @@ import pytest
 
 from invaders.app.cli import main
 from invaders.app.recording import Recorder, save_replay
-from invaders.engine.detector import Detector
+from invaders.engine.detector import Detector, make_broadphase
 from invaders.game.actions import Action
 from invaders.game.replay import load, run
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
-from invaders.lab.frames import FrameScene, sampled
+from invaders.lab.bench import FramePlayer
+from invaders.lab.frames import FrameScene, play_frames, sampled
 from invaders.lab.live import Choice, LabDetector, Sampler, install, replay_switch
-from invaders.lab.runner import FrameRecorder, SceneSpec, run_cell, truth
+from invaders.lab.runner import FrameRecorder, SceneSpec, record, run_cell, scene_rules, truth
 from tests.helpers import active_world, windowed
 
 REPLAYS = Path(__file__).resolve().parents[1] / "replays"
@@ -260,3 +261,17 @@ def test_watching_and_timing_the_default_method_changes_nothing_in_the_game():
             world.step(pilot.actions(world))
     assert detector.shadow.score.true > 0 and detector.timings()[1] > 0
     assert watched.state_hash() == plain.state_hash()
+
+
+def test_the_bench_playing_storm_frames_by_turns_finds_what_a_whole_playback_finds():
+    spec = SceneSpec.storm(300, 6, multiplier=4)
+    frames, rules = record(spec), scene_rules(spec)
+    _, whole, _ = play_frames(Detector(make_broadphase("brute"), rules), frames, untimed=1)
+    expected = [[(c.a_id, c.b_id, c.time) for c in contacts] for contacts in whole]
+    assert sum(map(len, expected)) > 20
+    players = [FramePlayer(name, frames, rules) for name in ("grid", "numpy", "auto")]
+    for index in range(1, len(frames)):
+        for player in players if index % 2 else players[::-1]:  # turns, as the bench takes
+            player.frame_seconds(index)
+    for player in players:
+        assert player.found == expected

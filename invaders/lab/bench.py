@@ -16,6 +16,10 @@ missed it. The exit code is 1 when a median misses a goal.
 3. With `ale`: the Arcade Learning Environment's emulated Space Invaders, frames per second
    on a fixed input cycle, against our autopilot game, its replay, and a bare step loop on
    the same input cycle.
+4. With `big`: storms of 1,000 and 10,000 bodies in steady state, ours with each broad
+   phase and pymunk's spatial hash. A round there takes a fraction of a second a
+   contender, about as long as a busy machine's slow spells, so the contenders take turns
+   frame by frame (the order alternating), and a slow spell falls on all of them alike.
 """
 
 from __future__ import annotations
@@ -35,7 +39,7 @@ from invaders.game.replay import Checkpoint, Replay
 from invaders.game.replay import run as run_replay
 from invaders.game.world import Phase, World
 from invaders.lab.autopilot import Autopilot
-from invaders.lab.frames import Frame, play_frames
+from invaders.lab.frames import Frame, FrameScene, play_frames
 from invaders.lab.references import (
     GAME_RULES,
     groupcollide_frames,
@@ -208,14 +212,29 @@ class Rounds:
 BIG_SIZES = (1000, 10000)
 BIG_TICKS = {1000: 40, 10000: 12}
 BIG_GOALS = {"numpy/grid": 3.0, "numpy/pymunk": 3.0, "auto/grid at 1000": 0.95}
+OURS_BIG = ("grid", "numpy", "auto")
 
 
-def steady_seconds(broadphase: str, frames: list[Frame], rules) -> tuple[float, list]:
-    """Seconds our detector spends on the frames after the first (which builds its
-    state untimed, as pymunk's first frame is), and the contacts of each."""
-    seconds, found, _ = play_frames(Detector(make_broadphase(broadphase), rules), frames,
-                                    untimed=1)
-    return seconds, [[(c.a_id, c.b_id, c.time) for c in contacts] for contacts in found]
+class FramePlayer:
+    """Our detector on recorded frames, one frame a call, its first frame played untimed
+    (a broad phase builds its state there, as pymunk's bodies are made before timing)."""
+
+    def __init__(self, broadphase: str, frames: list[Frame], rules) -> None:
+        self.detector = Detector(make_broadphase(broadphase), rules)
+        self.scene = FrameScene()
+        self.frames = frames
+        self.found: list[list[tuple]] = []
+        self.scene.load(frames[0])
+        self.detector.detect(self.scene.store)
+
+    def frame_seconds(self, index: int) -> float:
+        """Time the detection of frame `index` (frames in order); keep its contacts."""
+        self.scene.load(self.frames[index])
+        start = time.perf_counter()
+        contacts, _ = self.detector.detect(self.scene.store)
+        seconds = time.perf_counter() - start
+        self.found.append([(c.a_id, c.b_id, c.time) for c in contacts])
+        return seconds
 
 
 def big_scenes(rounds: int, goal) -> None:
@@ -237,22 +256,20 @@ def big_scenes(rounds: int, goal) -> None:
         rules = scene_rules(spec)
         figures = Rounds()
         contacts: dict[str, list] = {}
-
-        def ours(name: str, frames=frames, rules=rules, figures=figures,
-                 contacts=contacts) -> None:
-            seconds, contacts[name] = steady_seconds(name, frames, rules)
-            figures.add(name, 1e3 * seconds / (len(frames) - 1))
-
-        def theirs(frames=frames, figures=figures, rules=rules) -> None:
-            scene = PymunkScene(frames, rules)
-            figures.add("pymunk", 1e3 * scene.seconds() / (len(frames) - 1))
-
-        contenders = [lambda: ours("grid"), lambda: ours("numpy"), lambda: ours("auto")]
-        if has_pymunk:
-            contenders.append(theirs)
         for index in range(rounds):
-            for run in contenders if index % 2 == 0 else contenders[::-1]:
-                run()
+            players = {name: FramePlayer(name, frames, rules) for name in OURS_BIG}
+            if has_pymunk:
+                players["pymunk"] = PymunkScene(frames, rules)
+            order = list(players) if index % 2 == 0 else list(players)[::-1]
+            seconds = dict.fromkeys(players, 0.0)
+            with no_gc():  # the contenders take turns frame by frame, the order alternating
+                for i in range(1, len(frames)):
+                    for name in order if i % 2 else order[::-1]:
+                        seconds[name] += players[name].frame_seconds(i)
+            for name, spent in seconds.items():
+                figures.add(name, 1e3 * spent / (len(frames) - 1))
+            for name in OURS_BIG:
+                contacts[name] = players[name].found
         same = contacts["grid"] == contacts["numpy"] == contacts["auto"]
         print(f"   {n:,} bodies, {len(frames) - 1} ticks"
               + ("" if same else ": WARNING the broad phases found different contacts"))
