@@ -16,9 +16,10 @@ from invaders.game.actions import Action
 from invaders.game.replay import load, run
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
-from invaders.lab.bench import FramePlayer
+from invaders.lab.bench import FramePlayer, detection_round, play_game
 from invaders.lab.frames import FrameScene, play_frames, sampled
 from invaders.lab.live import Choice, LabDetector, Sampler, install, replay_switch
+from invaders.lab.references import prepare
 from invaders.lab.runner import FrameRecorder, SceneSpec, record, run_cell, scene_rules, truth
 from tests.helpers import active_world, windowed
 
@@ -266,8 +267,7 @@ def test_watching_and_timing_the_default_method_changes_nothing_in_the_game():
 def test_the_bench_playing_storm_frames_by_turns_finds_what_a_whole_playback_finds():
     spec = SceneSpec.storm(300, 6, multiplier=4)
     frames, rules = record(spec), scene_rules(spec)
-    _, whole, _ = play_frames(Detector(make_broadphase("brute"), rules), frames, untimed=1)
-    expected = [[(c.a_id, c.b_id, c.time) for c in contacts] for contacts in whole]
+    _, expected, _ = play_frames(Detector(make_broadphase("brute"), rules), frames, untimed=1)
     assert sum(map(len, expected)) > 20
     players = [FramePlayer(name, frames, rules) for name in ("grid", "numpy", "auto")]
     for index in range(1, len(frames)):
@@ -275,3 +275,13 @@ def test_the_bench_playing_storm_frames_by_turns_finds_what_a_whole_playback_fin
             player.frame_seconds(index)
     for player in players:
         assert player.found == expected
+
+
+def test_the_bench_times_ours_and_groupcollide_by_turns_and_each_finds_the_games_contacts():
+    frames = play_game(900, 3, "grid", record=True)[2]
+    seconds, ours, theirs = detection_round(frames, prepare(frames), 1)
+    assert set(seconds) == {"ours", "naive", "careful"}
+    assert ours == [frame.contacts for frame in frames]
+    pairs = [{(c.a_id, c.b_id) for c in frame.contacts} for frame in frames]
+    assert theirs["naive"] == theirs["careful"] == pairs
+    assert any(pairs)

@@ -7,7 +7,6 @@ as ours), and pymunk's spatial hash answering box queries only (a lower bar: no 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
 
 import pygame
 
@@ -52,7 +51,8 @@ def prepare(frames: list[Frame]) -> Prepared:
     return [sprite_groups(frame) for frame in frames]
 
 
-def _pairs_of(results: list) -> set[tuple[int, int]]:
+def pairs_of(results: list) -> set[tuple[int, int]]:
+    """The id pairs (low first) in one frame's groupcollide results."""
     pairs = set()
     for result in results:
         for sprite, others in result.items():
@@ -65,44 +65,26 @@ def _pairs_of(results: list) -> set[tuple[int, int]]:
 GroupPairs = list[tuple[pygame.sprite.Group, pygame.sprite.Group]]
 
 
-def _timed(prepared: Prepared,
-           collide: Callable[[GroupPairs], list]) -> tuple[float, list[set[tuple[int, int]]]]:
-    """Seconds `collide` spends over every frame's group pairs, and the pairs it found."""
-    results = []
-    seconds = 0.0
-    with no_gc():
-        for groups in prepared:
-            start = time.perf_counter()
-            results.append(collide(groups))
-            seconds += time.perf_counter() - start
-    return seconds, [_pairs_of(hits) for hits in results]
-
-
-def groupcollide_frames(prepared: Prepared) -> tuple[float, list[set[tuple[int, int]]]]:
+def naive_collide(groups: GroupPairs) -> list:
     """The naive pygame user: `groupcollide(a, b, False, False, collide_mask)` over every
-    rule's pair of groups. Seconds over all frames, and the id pairs found per frame."""
+    rule's pair of groups of one frame."""
     mask = pygame.sprite.collide_mask
-    return _timed(prepared, lambda groups: [
-        pygame.sprite.groupcollide(a, b, False, False, mask) for a, b in groups])
+    return [pygame.sprite.groupcollide(a, b, False, False, mask) for a, b in groups]
 
 
-def rect_then_mask_frames(prepared: Prepared) -> tuple[float, list[set[tuple[int, int]]]]:
+def careful_collide(groups: GroupPairs) -> list:
     """The careful pygame user: `groupcollide` on rects, then `collide_mask` only on the
-    pairs whose rects overlap. Seconds over all frames, and the id pairs found per frame."""
+    pairs whose rects overlap."""
     mask = pygame.sprite.collide_mask
-
-    def careful(groups: GroupPairs) -> list:
-        hits = []
-        for a, b in groups:
-            found = {}
-            for sprite, others in pygame.sprite.groupcollide(a, b, False, False).items():
-                masked = [other for other in others if mask(sprite, other)]
-                if masked:
-                    found[sprite] = masked
-            hits.append(found)
-        return hits
-
-    return _timed(prepared, careful)
+    hits = []
+    for a, b in groups:
+        found = {}
+        for sprite, others in pygame.sprite.groupcollide(a, b, False, False).items():
+            masked = [other for other in others if mask(sprite, other)]
+            if masked:
+                found[sprite] = masked
+        hits.append(found)
+    return hits
 
 
 def groupcollide_us(frames: list[Frame], budget: float = 5.0) -> float:
