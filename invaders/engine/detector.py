@@ -33,14 +33,13 @@ from invaders.engine.store import BodyStore
 
 QuickTest = Callable[[tuple[int, int, int, int], tuple[int, int, int, int]], bool]
 BROADPHASES = ("grid", "brute", "sweep", "numpy", "auto")
-# Bodies from which the numpy broad phase beats the grid, as measured on storms on 2-core
-# machines (ms of detection a tick, grid then numpy). `invaders study` (docs/study/
-# scaling.csv, each a median of three plays): 300 bodies 0.76 and 1.15, 1,000 1.79 and 2.21,
-# 3,000 10.59 and 3.87, 10,000 24.35 and 9.45; `invaders bench --big` (20 interleaved
-# rounds) at 1,000: 2.46 and 1.98. Timed as the bench times them on a quieter machine
-# (steady state, 7 interleaved rounds), storms of 500, 700 and 900 bodies gave the grid's
-# time over numpy's as 0.87, 1.06 and 1.23. The two meet between about 650 and 1,000
-# bodies, and the switch sits between.
+# Bodies from which the numpy broad phase beats the grid, as measured on storms on a busy
+# 2-core machine (ms of detection a tick, grid then numpy). `invaders study` (docs/study/
+# scaling.csv, each a median of three plays): 300 bodies 0.90 and 1.86, 1,000 2.80 and 1.95,
+# 3,000 5.82 and 2.75, 10,000 30.08 and 8.71; `invaders bench --big` (20 rounds, turns frame
+# by frame) at 1,000: 2.26 and 2.01. In steady state over 9 interleaved rounds, storms of
+# 400, 500, 600, 700 and 900 bodies gave the grid's time over numpy's as 0.62, 0.68, 0.76,
+# 0.88 and 1.15: the two meet between 700 and 900 bodies, and the switch sits between.
 NUMPY_FROM = 800
 NUMPY_UNTIL = 600  # below this an automatic choice goes back to the grid (no flapping)
 SWEPT, LANDING = Motion.SWEPT, Motion.LANDING  # an enum member by name costs a slow look-up
