@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from invaders.engine.response import first_contacts
 from invaders.engine.rules import PairRule
-from invaders.engine.stats import Contact, contact_order
+from invaders.engine.stats import Contact, contact_order, contact_time
 from invaders.game.actions import Action
 from invaders.game.entities import BOMB_MASKS, Bomb, BombType, Shot
 from invaders.game.events import Event
@@ -211,3 +211,6 @@ def test_contacts_sort_by_time_as_the_fractions_order_them(times):
     by_float = sorted(contacts, key=contact_order)
     exact = sorted(contacts, key=lambda c: (c.time, c.a_id, c.b_id))
     assert by_float == exact
+    # The detector's contacts come in the pairs' id order: a stable sort by time suffices.
+    by_ids = sorted(contacts, key=lambda c: (c.a_id, c.b_id))
+    assert sorted(by_ids, key=contact_time) == exact

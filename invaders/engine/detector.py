@@ -28,7 +28,7 @@ from invaders.engine.broadphase import (
 )
 from invaders.engine.grid import DEFAULT_CELL, Grid
 from invaders.engine.rules import Motion, PairRule, RuleTable, Zone
-from invaders.engine.stats import END, CollisionStats, Contact, contact_order, impact_time
+from invaders.engine.stats import END, CollisionStats, Contact, contact_time, impact_time
 from invaders.engine.store import BodyStore
 
 QuickTest = Callable[[tuple[int, int, int, int], tuple[int, int, int, int]], bool]
@@ -46,6 +46,7 @@ SWEPT, LANDING = Motion.SWEPT, Motion.LANDING  # an enum member by name costs a 
 _solid_mask = predicates.solid_mask
 _kept_swept_mask = predicates.kept_swept_mask
 _first_touch = predicates.first_touch
+_substeps = predicates.substeps
 _new = tuple.__new__  # a NamedTuple from a tuple: half the cost of its own constructor
 
 
@@ -228,9 +229,8 @@ class Detector:
         n = store.size
         quick = self.quick
         contacts = []
-        rect_tests = rect_hits = mask_tests = mask_hits = swept_tests = 0
+        rect_hits = mask_tests = mask_hits = swept_tests = 0  # every pair gets a rect test
         for a, b, rule in pairs:
-            rect_tests += 1
             if quick is not None and not quick(_xywh(a, tick, rule), _xywh(b, tick, rule)):
                 continue
             motion = rule.motion
@@ -263,8 +263,7 @@ class Detector:
                         continue
                 elif not (oy < a.h and oy + b.h + dy > 0):
                     continue
-                rect_hits += 1
-                swept_tests += 1
+                swept_tests += 1  # a rect hit too: counted in at the end
                 contact = self._walk(a, b, rule, tick, apx, apy, ox, oy, dx, dy)
                 if contact is not None:
                     contacts.append(contact)
@@ -294,10 +293,10 @@ class Detector:
             time = walked.time if walked is not None else END
             contacts.append(_new(Contact, (tick, time, a.id, b.id, a.kind, b.kind, a.x, a.y,
                                            b.x, b.y, *point, rule)))
-        if len(contacts) > 1:
-            contacts.sort(key=contact_order)
-        stats = _new(CollisionStats, (n, n * (n - 1) // 2, allowed, len(pairs), rect_tests,
-                                      rect_hits, mask_tests, mask_hits, swept_tests,
+        if len(contacts) > 1:  # by time; ties stay in the pairs' (low id, high id) order
+            contacts.sort(key=contact_time)
+        stats = _new(CollisionStats, (n, n * (n - 1) // 2, allowed, len(pairs), len(pairs),
+                                      rect_hits + swept_tests, mask_tests, mask_hits, swept_tests,
                                       len(contacts)))
         if observers:
             for observer in observers:
@@ -382,7 +381,6 @@ class Detector:
         masked = rule.masked  # _shape_mask, inlined
         a_mask = a.mask if a.kind in masked else _solid_mask(a.w, a.h)
         b_mask = b.mask if b.kind in masked else _solid_mask(b.w, b.h)
-        fresh = a.shaped_tick == tick or b.shaped_tick == tick
         if b.kind not in self.eroding:
             if dx or dy:
                 swept = _kept_swept_mask((b_mask, dx, dy))
@@ -391,22 +389,25 @@ class Detector:
                 if a_mask.overlap(swept, (ox + dx if dx < 0 else ox,
                                           oy + dy if dy < 0 else oy)) is None:
                     return None
-            found = _first_touch(a_mask, b_mask, ox, oy, dx, dy, fresh)
+            found = _first_touch(a_mask, b_mask, ox, oy, dx, dy,
+                                 a.shaped_tick == tick or b.shaped_tick == tick)
             if found is None:
                 return None
             step, steps, (hx, hy) = found
-            ax, ay = _at(apx, apy, a.x, a.y, step, steps)
-            sx, sy = predicates.substeps(dx, dy)[step]
+            x, y = a.x, a.y
+            ax, ay = (x, y) if x == apx and y == apy else _at(apx, apy, x, y, step, steps)
+            sx, sy = _substeps(dx, dy)[step]
             bx, by = ax + ox + sx, ay + oy + sy
             return _new(Contact, (tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
                                   ax, ay, bx, by, ax + hx, ay + hy, rule))
         # b erodes (a shield): sweep a against it instead.
-        found = predicates.first_swept_contact(b_mask, a_mask, -ox, -oy, -dx, -dy, fresh)
+        found = predicates.first_swept_contact(b_mask, a_mask, -ox, -oy, -dx, -dy,
+                                               a.shaped_tick == tick or b.shaped_tick == tick)
         if found is None:
             return None
         step, steps, (hx, hy) = found
         bx, by = _at(apx + ox, apy + oy, b.x, b.y, step, steps)
-        sx, sy = predicates.substeps(-dx, -dy)[step]
+        sx, sy = _substeps(-dx, -dy)[step]
         ax, ay = bx - ox + sx, by - oy + sy
         return _new(Contact, (tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
                               ax, ay, bx, by, bx + hx, by + hy, rule))
