@@ -375,42 +375,41 @@ class Detector:
               ox: int, oy: int, dx: int, dy: int) -> Contact | None:
         """The pixel walk along the pair's relative motion (dx, dy), from a's start (apx,
         apy) with b at (ox, oy) from it: the first touch, or None. (The quick test is the
-        caller's.) Only the side that never erodes is swept, so its swept mask can be kept;
-        the swept mask's test, `predicates.first_swept_contact`'s first step, is inlined:
-        most walks end there."""
+        caller's.) The side that never erodes is the one swept, so its swept mask can be
+        kept; `predicates.first_swept_contact`'s first step, the swept mask's one test, is
+        inlined: most walks end there."""
         masked = rule.masked  # _shape_mask, inlined
         a_mask = a.mask if a.kind in masked else _solid_mask(a.w, a.h)
         b_mask = b.mask if b.kind in masked else _solid_mask(b.w, b.h)
-        if b.kind not in self.eroding:
-            if dx or dy:
-                swept = _kept_swept_mask((b_mask, dx, dy))
-                if swept is None:
-                    swept = predicates.swept_mask(b_mask, dx, dy)
-                if a_mask.overlap(swept, (ox + dx if dx < 0 else ox,
-                                          oy + dy if dy < 0 else oy)) is None:
-                    return None
-            found = _first_touch(a_mask, b_mask, ox, oy, dx, dy,
-                                 a.shaped_tick == tick or b.shaped_tick == tick)
-            if found is None:
+        b_swept = b.kind not in self.eroding
+        if b_swept:
+            fixed, moving, sox, soy, sdx, sdy = a_mask, b_mask, ox, oy, dx, dy
+        else:  # b erodes (a shield): a is swept against it
+            fixed, moving, sox, soy, sdx, sdy = b_mask, a_mask, -ox, -oy, -dx, -dy
+        if dx or dy:
+            swept = _kept_swept_mask((moving, sdx, sdy))
+            if swept is None:
+                swept = predicates.swept_mask(moving, sdx, sdy)
+            if fixed.overlap(swept, (sox + sdx if sdx < 0 else sox,
+                                     soy + sdy if sdy < 0 else soy)) is None:
                 return None
-            step, steps, (hx, hy) = found
-            x, y = a.x, a.y
-            ax, ay = (x, y) if x == apx and y == apy else _at(apx, apy, x, y, step, steps)
-            sx, sy = _substeps(dx, dy)[step]
-            bx, by = ax + ox + sx, ay + oy + sy
-            return _new(Contact, (tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
-                                  ax, ay, bx, by, ax + hx, ay + hy, rule))
-        # b erodes (a shield): sweep a against it instead.
-        found = predicates.first_swept_contact(b_mask, a_mask, -ox, -oy, -dx, -dy,
-                                               a.shaped_tick == tick or b.shaped_tick == tick)
+        found = _first_touch(fixed, moving, sox, soy, sdx, sdy,
+                             a.shaped_tick == tick or b.shaped_tick == tick)
         if found is None:
             return None
         step, steps, (hx, hy) = found
-        bx, by = _at(apx + ox, apy + oy, b.x, b.y, step, steps)
-        sx, sy = _substeps(-dx, -dy)[step]
-        ax, ay = bx - ox + sx, by - oy + sy
+        sx, sy = _substeps(sdx, sdy)[step]
+        if b_swept:  # the fixed side placed at its own point of the tick, the other from it
+            x, y = a.x, a.y
+            ax, ay = (x, y) if x == apx and y == apy else _at(apx, apy, x, y, step, steps)
+            bx, by = ax + ox + sx, ay + oy + sy
+            hx, hy = ax + hx, ay + hy
+        else:
+            bx, by = _at(apx + ox, apy + oy, b.x, b.y, step, steps)
+            ax, ay = bx - ox + sx, by - oy + sy
+            hx, hy = bx + hx, by + hy
         return _new(Contact, (tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
-                              ax, ay, bx, by, bx + hx, by + hy, rule))
+                              ax, ay, bx, by, hx, hy, rule))
 
 
 def _tested_in_zone(scene: Scene, kind: int, zone: ZoneIndex, kinds: KindSets) -> list[Body]:
