@@ -75,5 +75,4 @@ def contact_order(contact: Contact) -> tuple[float, int, int]:
     denominators are under 2**26 differ by more than a float's spacing between 0 and 1, so
     distinct times never round to one float and equal ones always do. (Comparing the
     fractions themselves costs several times more in a storm's thousands of contacts.)"""
-    time = contact.time
-    return time.numerator / time.denominator, contact.a_id, contact.b_id
+    return contact_time(contact), contact.a_id, contact.b_id
