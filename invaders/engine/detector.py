@@ -35,9 +35,9 @@ QuickTest = Callable[[tuple[int, int, int, int], tuple[int, int, int, int]], boo
 BROADPHASES = ("grid", "brute", "sweep", "numpy", "auto")
 # Bodies from which the numpy broad phase beats the grid, as measured on storms on a busy
 # 2-core machine (ms of detection a tick, grid then numpy). `invaders study` (docs/study/
-# scaling.csv, each a median of three plays): 300 bodies 0.58 and 1.34, 1,000 2.89 and 2.47,
-# 3,000 6.14 and 2.79, 10,000 32.98 and 9.50; `invaders bench --big` (20 rounds, turns frame
-# by frame) at 1,000: 2.69 and 2.49. In steady state over 9 interleaved rounds, storms of
+# scaling.csv, each a median of three plays): 300 bodies 0.86 and 1.56, 1,000 2.91 and 2.44,
+# 3,000 9.79 and 4.15, 10,000 29.19 and 9.92; `invaders bench --big` (20 rounds, turns frame
+# by frame) at 1,000: 2.44 and 2.24. In steady state over 9 interleaved rounds, storms of
 # 400, 500, 600, 700 and 900 bodies gave the grid's time over numpy's as 0.62, 0.68, 0.76,
 # 0.88 and 1.15: the two meet between 700 and 900 bodies, and the switch sits between.
 NUMPY_FROM = 800
