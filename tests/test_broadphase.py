@@ -5,14 +5,23 @@ from __future__ import annotations
 
 import random
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from invaders.engine.body import Body
 from invaders.engine.broadphase import Brute, SortAndSweep
-from invaders.engine.detector import NUMPY_FROM, NUMPY_UNTIL, Adaptive, Detector
+from invaders.engine.detector import (
+    GRID_FROM,
+    GRID_UNTIL,
+    NUMPY_FROM,
+    NUMPY_UNTIL,
+    Adaptive,
+    Detector,
+)
 from invaders.engine.grid import Grid
 from invaders.engine.numpy_grid import NumpyGrid
+from invaders.engine.rects import CellRects
 from invaders.game import art
 from invaders.game.kinds import Kind
 from invaders.game.world import World
@@ -56,6 +65,9 @@ def test_grid_and_brute_give_identical_contacts_in_identical_order(bodies, cell)
     brute_contacts, brute_stats = Detector(Brute(), GAME_RULES).detect(scene)
     grid_contacts, grid_stats = Detector(Grid(cell), GAME_RULES).detect(scene)
     assert grid_contacts == brute_contacts
+    rects_contacts, rects_stats = Detector(CellRects(cell), GAME_RULES).detect(scene)
+    assert rects_contacts == brute_contacts
+    assert rects_stats == grid_stats  # the grid's cells as rects: the same candidates
     sweep_contacts, sweep_stats = Detector(SortAndSweep(), GAME_RULES).detect(scene)
     assert sweep_contacts == brute_contacts
     numpy_contacts, numpy_stats = Detector(NumpyGrid(cell), GAME_RULES).detect(scene)
@@ -75,12 +87,13 @@ def test_grid_and_brute_give_identical_contacts_in_identical_order(bodies, cell)
 
 def test_every_broad_phase_agrees_tick_by_tick_in_a_game():
     worlds = [World(seed=11, detector=Detector(b, GAME_RULES))
-              for b in (Grid(), Brute(), SortAndSweep(), NumpyGrid())]
+              for b in (Grid(), CellRects(), Brute(), SortAndSweep(), NumpyGrid(), Adaptive())]
     pilots = [Autopilot(11) for _ in worlds]
     contacts = 0
     for _ in range(4000):
         reports = [w.step(p.actions(w)) for w, p in zip(worlds, pilots, strict=True)]
         assert all(r.contacts == reports[0].contacts for r in reports)
+        assert reports[1].stats == reports[0].stats  # rects and grid: the same candidates
         contacts += len(reports[0].contacts)
     assert contacts > 50
     assert len({w.state_hash() for w in worlds}) == 1
@@ -88,7 +101,8 @@ def test_every_broad_phase_agrees_tick_by_tick_in_a_game():
 
 def _storm_contacts(broadphase, bodies: int, ticks: int, shrink_to: int | None = None):
     """Contacts of every tick of a storm (its own rules, zones in every tile); with
-    `shrink_to`, projectiles are taken out half-way until that many bodies are left."""
+    `shrink_to`, projectiles, then aliens, are taken out half-way until that many bodies
+    are left."""
     from invaders.game.config import DEFAULT_CONFIG
     from invaders.game.rules import make_rules
     from invaders.lab.storm import Storm, storm_rules
@@ -98,7 +112,8 @@ def _storm_contacts(broadphase, bodies: int, ticks: int, shrink_to: int | None =
     seen = []
     for tick in range(ticks):
         if shrink_to is not None and tick == ticks // 2:
-            movers = [b for kind in (Kind.SHOT, Kind.BOMB) for b in storm.store.by_kind[kind]]
+            movers = [b for kind in (Kind.SHOT, Kind.BOMB, Kind.ALIEN)
+                      for b in storm.store.by_kind[kind]]
             for body in movers[: storm.count - shrink_to]:
                 storm.store.remove(body)
         contacts, _ = detector.detect(storm.store)
@@ -125,8 +140,23 @@ def test_the_automatic_choice_takes_numpy_for_big_scenes_and_the_grid_again_when
     assert big.active.name == "numpy"
 
 
+def test_the_automatic_choice_takes_the_rects_for_small_scenes_and_holds_a_tier_to_its_floor():
+    start, shrunk, held = GRID_FROM + 40, GRID_UNTIL - 20, GRID_UNTIL + 20
+    grid, _ = _storm_contacts(Grid(), start, 10, shrink_to=shrunk)
+    auto = Adaptive()
+    seen, _ = _storm_contacts(auto, start, 10, shrink_to=shrunk)
+    assert seen == grid
+    assert auto.active.name == "rects"  # it went down when the scene shrank
+    between = Adaptive()
+    _storm_contacts(between, start, 10, shrink_to=held)
+    assert between.active.name == "grid"  # fewer than it takes the grid for, not below
+    small = Adaptive()
+    _storm_contacts(small, GRID_FROM - 20, 3)
+    assert small.active.name == "rects"
+
+
 def test_static_bodies_stay_binned_and_movers_rebin_only_when_cells_change():
-    world = active_world(seed=1)
+    world = active_world(seed=1, broadphase="grid")
     grid = world.detector.broadphase
     assert isinstance(grid, Grid)
     world.step(0)
@@ -151,16 +181,31 @@ def test_a_body_spanning_many_cells_is_reported_once():
     assert [(c.a_id, c.b_id) for c in contacts] == [(1, 2)]
 
 
-def _two_blocks(probe_at: tuple[int, int], target_at: tuple[int, int], swept: bool = False):
+def _cells(broadphase, body_id: int) -> tuple[int, int, int, int]:
+    """The cells (first and last column and row) a broad phase holds a body in: the
+    grid's range, or the cells the rect of `CellRects` spans."""
+    if isinstance(broadphase, Grid):
+        return broadphase.ranges[body_id]
+    c = broadphase.cell
+    x0, y0, x1, y1 = broadphase.ranges[body_id]
+    assert broadphase.rect_of[body_id] == (x0, y0, x1 - x0, y1 - y0)
+    return x0 // c, y0 // c, x1 // c - 1, y1 // c - 1
+
+
+ON_CELLS = pytest.mark.parametrize("make", [Grid, CellRects], ids=["grid", "rects"])
+
+
+def _two_blocks(probe_at: tuple[int, int], target_at: tuple[int, int], swept: bool = False,
+                make=Grid):
     """A store of two 4x4 blocks, kind 1 probing kind 2 by boxes (discrete, or `swept`),
-    and a 32-px grid: (store, grid, detector, probe, target)."""
+    and a broad phase on 32-px cells: (store, broad phase, detector, probe, target)."""
     from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
     from invaders.engine.store import BodyStore
 
     motion = Motion.SWEPT if swept else Motion.DISCRETE
     rules = RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, motion),))
     store = BodyStore((1, 2))
-    grid = Grid(32)
+    grid = make(32)
     detector = Detector(grid, rules)
     block = art.mask_of(("####",) * 4)
     probe, target = Body(1, 1, *probe_at, block), Body(2, 2, *target_at, block)
@@ -169,10 +214,11 @@ def _two_blocks(probe_at: tuple[int, int], target_at: tuple[int, int], swept: bo
     return store, grid, detector, probe, target
 
 
-def test_the_grid_answers_from_its_last_look_only_while_no_cell_range_changes():
+@ON_CELLS
+def test_the_grid_answers_from_its_last_look_only_while_no_cell_range_changes(make):
     """Candidates depend on cell ranges alone: a move inside a cell reuses the last answer
     (and the exact tests still see the new places); a move across a cell edge looks again."""
-    store, grid, detector, probe, _ = _two_blocks((0, 0), (20, 20))
+    store, grid, detector, probe, _ = _two_blocks((0, 0), (20, 20), make=make)
     looks = []
     query = grid._query
     grid._query = lambda *args: looks.append(store.tick) or query(*args)
@@ -216,13 +262,14 @@ def test_a_body_crossing_a_cell_edge_is_re_binned_once_and_keeps_the_cells_it_en
     assert set(grid.layers[2]) == {1, 2}  # binned in cells 1 and 2 of row 0
 
 
-def test_a_body_keeps_a_larger_range_only_while_few_bodies_move():
+@ON_CELLS
+def test_a_body_keeps_a_larger_range_only_while_few_bodies_move(make):
     """A larger range spares a re-bin and a look; with many bodies moving the grid looks
     anyway, so a body (here a probe) gets its exact range back."""
     from invaders.engine.grid import FEW_MOVES
 
     for others in (0, FEW_MOVES):
-        store, grid, detector, probe, _ = _two_blocks((26, 2), (200, 200))
+        store, grid, detector, probe, _ = _two_blocks((26, 2), (200, 200), make=make)
         crowd = [Body(10 + k, 1, 100 + 8 * k, 100, probe.mask) for k in range(others)]
         for body in crowd:
             store.add(body)
@@ -234,12 +281,13 @@ def test_a_body_keeps_a_larger_range_only_while_few_bodies_move():
             for body in crowd:
                 store.move(body, body.x, body.y + 1)
             detector.detect(store)
-            ranges.append(grid.ranges[probe.id])
+            ranges.append(_cells(grid, probe.id))
         kept = (0, 0, 1, 0) if others == 0 else (1, 0, 1, 0)
         assert ranges == [(0, 0, 1, 0), kept]
 
 
-def test_a_swept_body_is_seen_over_its_whole_path_when_its_start_was_not_its_last_place():
+@ON_CELLS
+def test_a_swept_body_is_seen_over_its_whole_path_when_its_start_was_not_its_last_place(make):
     """While few move, a swept body whose box stays inside its cells is not reported, as
     its start was its last place. When its start is elsewhere (put down so, or it moved
     away on a tick the grid did not look at and came back on the next), the path from the
@@ -248,7 +296,7 @@ def test_a_swept_body_is_seen_over_its_whole_path_when_its_start_was_not_its_las
 
     brute = Detector(Brute(), RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, Motion.SWEPT),)))
     for skipped_a_look in (False, True):
-        store, grid, detector, probe, _ = _two_blocks((2, 2), (64, 2), swept=True)
+        store, grid, detector, probe, _ = _two_blocks((2, 2), (64, 2), swept=True, make=make)
         detector.detect(store)
         store.tick += 1
         if skipped_a_look:  # it goes right on a tick nobody looked, and back on the next
@@ -261,7 +309,7 @@ def test_a_swept_body_is_seen_over_its_whole_path_when_its_start_was_not_its_las
         # The first touch: the probe at x 67..70 meets the target at 64..67.
         assert [(c.a_id, c.b_id, c.ax) for c in contacts] == [(1, 2, 67)]
         assert contacts == brute.detect(store)[0]
-        assert grid.ranges[probe.id] == (0, 0, 3, 0)  # x 4..104: cells 0 to 3
+        assert _cells(grid, probe.id) == (0, 0, 3, 0)  # x 4..104: cells 0 to 3
 
 
 def test_the_store_reports_a_move_only_when_the_box_leaves_its_fence():

@@ -15,6 +15,7 @@ from invaders.engine.broadphase import Brute
 from invaders.engine.detector import Detector
 from invaders.engine.grid import Grid
 from invaders.engine.numpy_grid import NumpyGrid
+from invaders.engine.rects import CellRects
 from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
 from invaders.engine.store import BodyStore, gains_pixels
 from invaders.game import art
@@ -207,12 +208,40 @@ NumpyAgainstBrute.TestCase.settings = settings(max_examples=60, stateful_step_co
 test_numpy_fed_by_the_move_buffer_agrees_with_brute_force = NumpyAgainstBrute.TestCase
 
 
+class RectsAgainstBrute(GridAgainstBrute):
+    """The same random adds, moves, reshapes and removes, fed to the cell rects."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.grid = Detector(CellRects(random.Random(0).choice((4, 16, 32))), SWEPT_RULES)
+
+    @invariant()
+    def the_grid_bins_exactly_the_live_probed_bodies(self):
+        """Each kind's list is the store's, in id order, each beside its own rect, and the
+        rect covers the body's box."""
+        if self.store.listener is not self.grid.broadphase:
+            return
+        rects = self.grid.broadphase
+        rects._drain(self.store.tick, self.grid.kinds)
+        for kind, bodies in self.store.by_kind.items():
+            assert rects.bodies.get(kind, []) == bodies
+            assert rects.rects.get(kind, []) == [rects.rect_of[b.id] for b in bodies]
+            for body in bodies:
+                assert rects.rect_of[body.id].contains((body.x, body.y, body.w, body.h))
+        assert set(rects.ranges) == set(rects.rect_of) == set(self.store.by_id)
+
+
+RectsAgainstBrute.TestCase.settings = settings(max_examples=60, stateful_step_count=40,
+                                               deadline=None)
+test_rects_fed_by_the_move_buffer_agree_with_brute_force = RectsAgainstBrute.TestCase
+
+
 class SwitchingAgainstBrute(GridAgainstBrute):
-    """The same random changes, the store handed back and forth between the grid and the
-    numpy broad phase: the grid lets a body move unheard inside its cells (its fence),
-    numpy must hear every move, so no fence may outlive the broad phase that set it. The
-    bodies are crowded and move a few pixels at a time, so most moves stay inside a fence
-    and contacts come and go."""
+    """The same random changes, the store handed back and forth between the grid, the cell
+    rects and the numpy broad phase: the first two let a body move unheard inside its cells
+    (its fence), numpy must hear every move, so no fence may outlive the broad phase that
+    set it. The bodies are crowded and move a few pixels at a time, so most moves stay
+    inside a fence and contacts come and go."""
 
     @rule(kind=st.sampled_from(KINDS), shape=st.integers(0, len(SHAPES) - 1),
           x=st.integers(0, 48), y=st.integers(0, 48))
@@ -224,18 +253,17 @@ class SwitchingAgainstBrute(GridAgainstBrute):
     def move(self, pick, dx, dy):
         self._move(pick, dx, dy)
 
-    @rule(to_numpy=st.booleans(), cell=st.sampled_from((16, 32, 64)))
-    def switch(self, to_numpy, cell):
-        self.grid = Detector(NumpyGrid(cell) if to_numpy else Grid(cell), SWEPT_RULES)
+    @rule(to=st.sampled_from((Grid, CellRects, NumpyGrid)), cell=st.sampled_from((16, 32, 64)))
+    def switch(self, to, cell):
+        self.grid = Detector(to(cell), SWEPT_RULES)
 
     @invariant()
     def the_grid_bins_exactly_the_live_probed_bodies(self):
-        if isinstance(self.grid.broadphase, NumpyGrid):
-            NumpyAgainstBrute.the_grid_bins_exactly_the_live_probed_bodies(self)
-        else:
-            GridAgainstBrute.the_grid_bins_exactly_the_live_probed_bodies(self)
+        check = {NumpyGrid: NumpyAgainstBrute, CellRects: RectsAgainstBrute}.get(
+            type(self.grid.broadphase), GridAgainstBrute)
+        check.the_grid_bins_exactly_the_live_probed_bodies(self)
 
 
 SwitchingAgainstBrute.TestCase.settings = settings(max_examples=60, stateful_step_count=40,
                                                    deadline=None)
-test_grid_and_numpy_taking_turns_agree_with_brute_force = SwitchingAgainstBrute.TestCase
+test_grid_rects_and_numpy_taking_turns_agree_with_brute_force = SwitchingAgainstBrute.TestCase

@@ -111,10 +111,11 @@ def test_the_default_is_exact_on_storms_with_saucers_in_their_lanes(multiplier):
         assert jumped > 0
 
 
-def test_the_numpy_broad_phase_is_exact_on_storms_too():
+@pytest.mark.parametrize("broad", ["numpy", "rects"])
+def test_the_numpy_broad_phase_and_the_rects_are_exact_on_storms_too(broad):
     spec = SceneSpec.storm(300, 30, 4)
     frames = record(spec)
     rules = scene_rules(spec)
-    row = run_cell(spec, Method(broad="numpy"), frames, truth(frames, rules), rules=rules)
-    assert row["true"] > 100 and row["broad"] == "numpy"
+    row = run_cell(spec, Method(broad=broad), frames, truth(frames, rules), rules=rules)
+    assert row["true"] > 100 and row["broad"] == broad
     assert (row["missed"], row["false"], row["late"]) == (0, 0, 0)

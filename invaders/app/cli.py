@@ -9,7 +9,7 @@ from collections.abc import Callable, Sequence
 from typing import NamedTuple, NoReturn
 
 from invaders import __version__
-from invaders.engine.detector import BROADPHASES
+from invaders.engine.detector import BROADPHASES, DEFAULT_BROADPHASE
 from invaders.engine.grid import DEFAULT_CELL
 from invaders.lab import choices
 from invaders.lab.styles import STYLES
@@ -92,7 +92,7 @@ def _add_play(sub: argparse._SubParsersAction) -> None:
     play = sub.add_parser("play", help="play in a window")
     play.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0)
     play.add_argument("--scale", type=_int_in("--scale", 1, 8), default=3)
-    play.add_argument("--broadphase", choices=BROADPHASES, default="grid")
+    play.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE)
     play.add_argument("--screenshot", metavar="FILE",
                       help="run headless for --ticks with the autopilot, save the window as PNG")
     play.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=600)
@@ -118,9 +118,9 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                      help="let the built-in player play: " + ", ".join(
                          f"{name} (default)" if name == "hunter" else name
                          for name in STYLES))
-    run.add_argument("--broadphase", choices=BROADPHASES, default="grid")
+    run.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE)
     run.add_argument("--cell", type=_int_in("--cell", 1, 1024), default=DEFAULT_CELL,
-                     help="grid cell size in px")
+                     help="cell size in px of the grid and of the broad phases built on its cells")
     run.add_argument("--report", metavar="FILE", help="per-tick counters, .csv or .jsonl")
     lab = _lab_arguments(run)
     lab.add_argument("--shadow", action="store_true",
@@ -133,7 +133,7 @@ def _add_replay(sub: argparse._SubParsersAction) -> None:
     check.add_argument("paths", nargs="+", metavar="PATH", help="replay files or folders")
     check.add_argument("--update", action="store_true",
                        help="rewrite the expected checkpoints (after an intended rule change)")
-    check.add_argument("--broadphase", choices=BROADPHASES, default="grid")
+    check.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE)
 
 
 def _add_study(sub: argparse._SubParsersAction) -> None:

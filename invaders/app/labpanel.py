@@ -17,6 +17,7 @@ from invaders.app.recording import Recorder
 from invaders.app.render import View
 from invaders.game.config import GameConfig
 from invaders.game.world import World
+from invaders.lab.choices import CELLED
 from invaders.lab.live import DEFAULT_CHOICE, MARK_TICKS, Choice, LabDetector, install
 
 # key -> (choice, step): the panel lists them, so any key here is shown to the player
@@ -101,7 +102,7 @@ def panel_lines(control: LabControl) -> list[tuple[str, tuple[int, int, int]]]:
     d = control.detector
     lines = [("LAB   F4 closes", TEXT), ("with Shift: a step back", DIM)]
     rows = [("B", "broad phase", c.broad),
-            ("[ ]", "grid cell", f"{c.cell} px" if c.broad == "grid" else "-"),
+            ("[ ]", "grid cell", f"{c.cell} px" if c.broad in CELLED else "-"),
             ("Q", "quick test", c.quick),
             ("T", "thorough", c.thorough),
             ("O", "motion", "as proven" if c.motion == "auto" else f"all {c.motion}"),

@@ -24,6 +24,7 @@ from invaders.app.render import CandidateWatch, Renderer
 from invaders.app.signals import StopSignals
 from invaders.app.sound import SoundBoard
 from invaders.atomic import atomic_writer
+from invaders.engine.detector import DEFAULT_BROADPHASE
 from invaders.game.actions import Action
 from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.replay import Replay
@@ -303,7 +304,7 @@ class App:
     def __init__(self, world: World, window: pygame.Surface, clock: Callable[[], float],
                  scale: int = 3, replay: Replay | None = None, speed: int = 1,
                  recorder: Recorder | None = None, overlay: bool = False,
-                 broadphase: str = "grid", attract_first: bool = True,
+                 broadphase: str = DEFAULT_BROADPHASE, attract_first: bool = True,
                  sounds: SoundBoard | None = None, lab: Choice | None = None) -> None:
         self.window, self.clock, self.scale, self.broadphase = window, clock, scale, broadphase
         self.session = Session(world, window, clock, scale, replay, speed, recorder, overlay,
@@ -363,7 +364,7 @@ class App:
         return True, drew
 
 
-def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool = False,
+def play(seed: int = 0, scale: int = 3, broadphase: str = DEFAULT_BROADPHASE, overlay: bool = False,
          record: str | None = None, replay: Replay | None = None, speed: int = 1,
          mute: bool = False, lab: Choice | None = None) -> int:
     """Open a window: the attract cycle until Enter or 1 starts a game (or a replay to
@@ -409,7 +410,7 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = "grid", overlay: bool 
 
 
 def screenshot(path: str, seed: int = 0, ticks: int = 600, scale: int = 3,
-               overlay: bool = False, broadphase: str = "grid",
+               overlay: bool = False, broadphase: str = DEFAULT_BROADPHASE,
                attract: str | None = None, lab: Choice | None = None) -> int:
     """Play `ticks` ticks headless with the autopilot, then save the window as a PNG (or,
     with `attract`, that still screen of the attract cycle); with `lab`, the lab's panel

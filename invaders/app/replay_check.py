@@ -9,13 +9,14 @@ from pathlib import Path
 from invaders.app.outputs import REPLAY_SUFFIXES, OutputError, check_output, writing
 from invaders.app.processing import working_on
 from invaders.app.recording import save_replay
+from invaders.engine.detector import DEFAULT_BROADPHASE
 from invaders.game.replay import Replay, ReplayError, load, replay_paths, run
 from invaders.lab.live import Choice, replay_switch
 
 UPDATED = -1
 
 
-def check_all(args: list[str], update: bool = False, broadphase: str = "grid") -> int:
+def check_all(args: list[str], update: bool = False, broadphase: str = DEFAULT_BROADPHASE) -> int:
     """Exit code: 0 all passed, 1 some checkpoint differed, 2 some input was unusable."""
     try:
         paths = replay_paths(args)

@@ -10,6 +10,7 @@ response, is `response.respond`.
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable, Sequence
 from typing import Protocol
 
@@ -27,12 +28,20 @@ from invaders.engine.broadphase import (
     SortAndSweep,
 )
 from invaders.engine.grid import DEFAULT_CELL, Grid
+from invaders.engine.rects import CellRects
 from invaders.engine.rules import Motion, PairRule, RuleTable, Zone
 from invaders.engine.stats import END, CollisionStats, Contact, contact_time, impact_time
 from invaders.engine.store import BodyStore
 
 QuickTest = Callable[[tuple[int, int, int, int], tuple[int, int, int, int]], bool]
-BROADPHASES = ("grid", "brute", "sweep", "numpy", "auto")
+BROADPHASES = ("auto", "rects", "grid", "numpy", "brute", "sweep")
+DEFAULT_BROADPHASE = "auto"  # the game's, the command line's and the sprite collider's
+# Bodies from which the grid beats the cell rects (brute force in C), as measured on storms
+# (30 ticks, 5-7 rounds taking turns frame by frame, the grid's time over the rects'): 100
+# bodies 1.07, 200 1.04, 250 0.95, 300 0.94, 400 0.94. On a game's frames the rects take
+# three quarters of the grid's time.
+GRID_FROM = 220
+GRID_UNTIL = 160  # below this an automatic choice goes back to the rects (no flapping)
 # Bodies from which the numpy broad phase beats the grid, as measured on storms on a busy
 # 2-core machine (ms of detection a tick, grid then numpy). `invaders study` (docs/study/
 # scaling.csv, each a median of three plays): 300 bodies 0.86 and 1.56, 1,000 2.91 and 2.44,
@@ -42,6 +51,9 @@ BROADPHASES = ("grid", "brute", "sweep", "numpy", "auto")
 # 0.88 and 1.15: the two meet between 700 and 900 bodies, and the switch sits between.
 NUMPY_FROM = 800
 NUMPY_UNTIL = 600  # below this an automatic choice goes back to the grid (no flapping)
+# The automatic choice's broad phases, smallest scenes first: each with the body count
+# from which it is taken, and the count below which it is left again.
+TIERS = (("rects", 0, 0), ("grid", GRID_FROM, GRID_UNTIL), ("numpy", NUMPY_FROM, NUMPY_UNTIL))
 SWEPT, LANDING = Motion.SWEPT, Motion.LANDING  # an enum member by name costs a slow look-up
 _solid_mask = predicates.solid_mask
 _kept_swept_mask = predicates.kept_swept_mask
@@ -51,59 +63,65 @@ _new = tuple.__new__  # a NamedTuple from a tuple: half the cost of its own cons
 
 
 class Adaptive:
-    """The grid for small scenes, the numpy broad phase for big ones, by the body count
-    (`NUMPY_FROM`, `NUMPY_UNTIL`); the one in use is rebuilt from the scene on a change.
-    Both give the same pairs as brute force would test, so switching changes no contact."""
+    """The cell rects for game-sized scenes, the grid for bigger ones and the numpy broad
+    phase for the biggest, by the body count (`TIERS`); the one in use is rebuilt from the
+    scene on a change. All give the pairs brute force would test whose boxes may meet, so
+    switching changes no contact. The detector calls `fit` when bodies come or go (the
+    only time the count moves); between, `pairs` is the active one's own, so choosing
+    costs a tick nothing."""
 
     name = "auto"
 
     def __init__(self, cell: int = DEFAULT_CELL) -> None:
         self._cell = cell
         self.move_buffer: list[Body] = []
-        self.active: BroadPhase = self._make("grid")
-        self._fresh = True  # rebuild the active one before its first query
+        self._take(0)
 
     @property
     def cell(self) -> int:
         return self.active.cell
 
-    def _make(self, name: str) -> BroadPhase:
-        """A broad phase that fills its move buffer from the store's: the same list, so
-        nothing is copied from one to the other."""
-        broadphase = make_broadphase(name, self._cell)
-        broadphase.move_buffer = self.move_buffer
-        return broadphase
+    def _take(self, tier: int) -> None:
+        """Tier `tier` of `TIERS` made active, and the body counts it is kept between. The
+        new one fills its move buffer from the store's: the same list, nothing copied."""
+        self._tier = tier
+        self._low = TIERS[tier][2]
+        self._high = TIERS[tier + 1][1] if tier + 1 < len(TIERS) else sys.maxsize
+        self.active: BroadPhase = make_broadphase(TIERS[tier][0], self._cell)
+        self.active.move_buffer = self.move_buffer
+        self.pairs = self.active.pairs
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
-        self._choose(scene, kinds, force=True)
+        self.fit(scene, kinds, force=True)
 
-    def _choose(self, scene: Scene, kinds: KindSets, force: bool = False) -> None:
-        n = sum(len(bodies) for bodies in scene.by_kind.values())
-        big = self.active.name == "numpy"
-        want_big = n >= NUMPY_FROM or (big and n >= NUMPY_UNTIL)
-        if want_big != big:
-            self.active = self._make("numpy" if want_big else "grid")
+    def fit(self, scene: Scene, kinds: KindSets, force: bool = False) -> None:
+        """The tier for the scene's body count now (a tier up to the one in use is kept
+        down to its lower count); a new one, or `force`, is built from the scene itself."""
+        n = scene.size if isinstance(scene, BodyStore) else sum(
+            len(bodies) for bodies in scene.by_kind.values())
+        if not self._low <= n < self._high:
+            tier = 0
+            for place, (_, start, keep) in enumerate(TIERS):
+                if n >= (keep if place <= self._tier else start):
+                    tier = place
+            self._take(tier)
             force = True
-        if force or self._fresh:
-            self._fresh = False
+        if force:
             self.active.rebuild(scene, kinds)  # from the scene itself: the buffer is moot
 
     def in_zone(self, scene: Scene, kind: int, zone: ZoneIndex, kinds: KindSets) -> list[Body]:
-        self._choose(scene, kinds)
         in_zone = getattr(self.active, "in_zone", None)
         if in_zone is not None:
             return in_zone(scene, kind, zone, kinds)
         return _tested_in_zone(scene, kind, zone, kinds)
-
-    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> Sequence[Pair]:
-        self._choose(scene, kinds)
-        return self.active.pairs(scene, groups, kinds)
 
 
 def make_broadphase(name: str, cell: int = DEFAULT_CELL) -> BroadPhase:
     """A broad phase by its command-line name."""
     if name == "grid":
         return Grid(cell)
+    if name == "rects":
+        return CellRects(cell)
     if name == "brute":
         return Brute()
     if name == "sweep":
@@ -195,6 +213,7 @@ class Detector:
         self._quiet_by_count: dict[tuple[int, int], CollisionStats] = {}
         # A broad phase may find the bodies in a zone faster than testing each one.
         self._in_zone = getattr(broadphase, "in_zone", None) or _tested_in_zone
+        self._fit = getattr(broadphase, "fit", None)  # told when bodies come or go
 
     def detect(self, store: BodyStore) -> tuple[list[Contact], CollisionStats]:
         """This tick's contacts in (time, low id, high id) order, and the counters."""
@@ -311,6 +330,8 @@ class Detector:
             self._plans.clear()
             self._planned_for = store
         self._membership = store.membership
+        if self._fit is not None:
+            self._fit(store, self.kinds)
         plan = self._plans.get(store.present)
         if plan is None:
             plan = self._plans[store.present] = self._plan(store)

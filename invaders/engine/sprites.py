@@ -15,7 +15,7 @@ from fractions import Fraction
 from typing import Any, NamedTuple
 
 from invaders.engine.body import Body
-from invaders.engine.detector import Detector, make_broadphase
+from invaders.engine.detector import DEFAULT_BROADPHASE, Detector, make_broadphase
 from invaders.engine.grid import DEFAULT_CELL
 from invaders.engine.predicates import solid_mask
 from invaders.engine.response import first_contacts
@@ -38,7 +38,7 @@ class SpriteContact(NamedTuple):
 class SpriteCollider:
     """The rules table and a broad phase over sprite groups, kept between calls."""
 
-    def __init__(self, rules: RuleTable, broadphase: str = "grid",
+    def __init__(self, rules: RuleTable, broadphase: str = DEFAULT_BROADPHASE,
                  cell: int = DEFAULT_CELL) -> None:
         self.rules = rules
         self.detector = Detector(make_broadphase(broadphase, cell), rules)
@@ -101,7 +101,7 @@ class GroupCollide:
     """`pygame.sprite.groupcollide(a, b, False, False, collide_mask)`, as the engine does it:
     keep one per pair of groups you test every frame, and call it like the original."""
 
-    def __init__(self, broadphase: str = "grid", cell: int = DEFAULT_CELL) -> None:
+    def __init__(self, broadphase: str = DEFAULT_BROADPHASE, cell: int = DEFAULT_CELL) -> None:
         rule = PairRule(0, 1, Shape.MASK, Shape.MASK, Motion.SWEPT)
         self.collider = SpriteCollider(RuleTable((rule,)), broadphase, cell)
 

@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from invaders import __version__
+from invaders.engine.detector import DEFAULT_BROADPHASE
 from invaders.game.actions import ALL_ACTIONS
 from invaders.game.config import ConfigError, GameConfig
 from invaders.game.kinds import Kind
@@ -424,7 +425,7 @@ class CheckResult:
     mismatch: str | None = None  # the first checkpoint that differs, described
 
 
-def run(replay: Replay, broadphase: str = "grid", recompute: bool = False,
+def run(replay: Replay, broadphase: str = DEFAULT_BROADPHASE, recompute: bool = False,
         switch: Callable[[World, dict[str, Any]], None] | None = None,
         ) -> tuple[CheckResult, list[Checkpoint]]:
     """Run a replay headless at full speed, checking every field of every checkpoint.

@@ -16,7 +16,7 @@ from typing import NamedTuple
 import pygame
 
 from invaders.engine.body import Body
-from invaders.engine.detector import Detector, make_broadphase
+from invaders.engine.detector import DEFAULT_BROADPHASE, Detector, make_broadphase
 from invaders.engine.grid import DEFAULT_CELL
 from invaders.engine.response import respond
 from invaders.engine.stats import CollisionStats, Contact
@@ -68,7 +68,7 @@ class TickReport(NamedTuple):
     stats: CollisionStats
     events: tuple[Event, ...]
     contacts: tuple[Contact, ...]
-    broadphase: str = "grid"
+    broadphase: str = DEFAULT_BROADPHASE
     cell: int = 0
 
 
@@ -79,7 +79,7 @@ class World:
         self,
         seed: int = 0,
         config: GameConfig = DEFAULT_CONFIG,
-        broadphase: str = "grid",
+        broadphase: str = DEFAULT_BROADPHASE,
         detector: Detector | None = None,
         cell: int = DEFAULT_CELL,
     ) -> None:

@@ -1,0 +1,191 @@
+"""Cell rects: the grid's cells without the grid. Each body's cells as one `pygame.Rect`,
+and each probe tested against a whole kind's rects at once, in C (`Rect.collidelistall`).
+
+Brute force, but pygame's loop over 55 rects costs about what Python pays to look up one
+grid cell, and a body that crosses a cell edge changes one rect in place instead of
+leaving and joining cell lists. So at game scale it answers sooner than the grid; from a
+few hundred bodies the grid's locality wins (`detector.GRID_FROM`). Two bodies' rects
+overlap exactly when their cell ranges share a cell, and the rects follow the grid's rules
+(a body's cells are its fence while few move; a resting swept body keeps the range of its
+last motion), so the candidates are the grid's, pair for pair.
+"""
+
+from __future__ import annotations
+
+from bisect import insort
+from collections.abc import Sequence
+from operator import attrgetter
+
+import pygame
+
+from invaders.engine.body import NOWHERE, Body
+from invaders.engine.broadphase import Group, KindSets, Pair, Scene, pair_key
+from invaders.engine.grid import DEFAULT_CELL, FEW_MOVES
+from invaders.engine.rules import PairRule
+
+_ID = attrgetter("id")
+# A group made ready to query: its rule, sides, kinds, and the rects of its side b.
+Ready = tuple[PairRule, Sequence[Body], Sequence[Body], int, int, list[pygame.Rect]]
+
+
+class CellRects:
+    """Per kind, its live bodies in id order and beside them their cells' rects."""
+
+    name = "rects"
+
+    def __init__(self, cell: int = DEFAULT_CELL) -> None:
+        if cell < 1:
+            raise ValueError("grid cell size must be at least 1 px")
+        self.cell = cell
+        self.move_buffer: list[Body] = []
+        self.bodies: dict[int, list[Body]] = {}
+        self.rects: dict[int, list[pygame.Rect]] = {}  # rects[kind][i] is bodies[kind][i]'s
+        self.rect_of: dict[int, pygame.Rect] = {}  # body id -> its rect (the same object)
+        self.ranges: dict[int, tuple[int, int, int, int]] = {}  # body id -> its rect's box
+        self.bounds: dict[int, pygame.Rect | None] = {}  # per kind, all its rects' union
+        self.version = 0  # moves whenever a rect does, or a body comes or goes
+        self._ready: tuple[Sequence[Group], list[Ready]] | None = None
+        self._last: tuple[int, Sequence[Group], tuple[Pair, ...]] | None = None  # last answer
+
+    def rebuild(self, scene: Scene, kinds: KindSets) -> None:
+        """Every body's rect afresh (on attaching)."""
+        self.move_buffer.clear()
+        self.bodies = {kind: [] for kind in scene.by_kind}
+        self.rects = {kind: [] for kind in scene.by_kind}
+        self.rect_of = {}
+        self.ranges = {}
+        self.bounds = dict.fromkeys(scene.by_kind)
+        self._ready = None
+        self.move_buffer.extend(body for bodies in scene.by_kind.values() for body in bodies)
+        self._drain(scene.tick, kinds)
+        self.version += 1
+
+    def _drain(self, tick: int, kinds: KindSets) -> None:
+        """Apply the move buffer: each body's rect is the cells its box covers (over the
+        tick's motion for swept kinds), changed in place; the fence is the same box while
+        few moved (as the grid's)."""
+        swept = kinds.swept
+        ranges = self.ranges
+        bounds = self.bounds
+        c = self.cell
+        changed = False
+        buffer = self.move_buffer
+        fenced = len(buffer) <= FEW_MOVES
+        for body in buffer:
+            old = ranges.get(body.id)
+            if not body.alive:
+                if old is not None:
+                    self._forget(body)
+                    changed = True
+                continue
+            x0 = body.x
+            y0 = body.y
+            x1 = x0 + body.w
+            y1 = y0 + body.h
+            if body.moved_tick == tick and body.kind in swept:
+                # Its box over the tick (body.tick_box), inlined: the hot path.
+                px = body.px
+                py = body.py
+                if px < x0:
+                    x0 = px
+                elif px + body.w > x1:
+                    x1 = px + body.w
+                if py < y0:
+                    y0 = py
+                elif py + body.h > y1:
+                    y1 = py + body.h
+            new = (x0 // c * c, y0 // c * c, ((x1 - 1) // c + 1) * c, ((y1 - 1) // c + 1) * c)
+            if new != old:
+                fx0, fy0, fx1, fy1 = new
+                if old is None:
+                    self._add(body, pygame.Rect(fx0, fy0, max(0, fx1 - fx0),
+                                                max(0, fy1 - fy0)))
+                else:
+                    self.rect_of[body.id].update(fx0, fy0, max(0, fx1 - fx0), max(0, fy1 - fy0))
+                ranges[body.id] = new
+                bounds[body.kind] = None
+                changed = True
+            body.fence = new if fenced else NOWHERE
+        buffer.clear()
+        if changed:
+            self.version += 1
+
+    def _add(self, body: Body, rect: pygame.Rect) -> None:
+        bodies = self.bodies.setdefault(body.kind, [])
+        rects = self.rects.setdefault(body.kind, [])
+        self.rect_of[body.id] = rect
+        if not bodies or bodies[-1].id < body.id:
+            bodies.append(body)
+            rects.append(rect)
+        else:
+            insort(bodies, body, key=_ID)
+            rects.insert(bodies.index(body), rect)
+
+    def _forget(self, body: Body) -> None:
+        bodies = self.bodies[body.kind]
+        place = bodies.index(body)
+        del bodies[place]
+        del self.rects[body.kind][place]
+        del self.rect_of[body.id]
+        del self.ranges[body.id]
+        self.bounds[body.kind] = None
+
+    def _bound(self, kind: int) -> pygame.Rect:
+        """The union of a kind's rects (kept until one of them changes)."""
+        rects = self.rects[kind]
+        bound = self.bounds[kind] = rects[0].unionall(rects)
+        return bound
+
+    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> tuple[Pair, ...]:
+        """The candidates, as the grid's: while no rect changed (the version) the same
+        groups get the last answer again."""
+        if self.move_buffer:
+            self._drain(scene.tick, kinds)
+        last = self._last
+        if last is not None and last[0] == self.version and last[1] is groups:
+            return last[2]
+        out = tuple(self._query(groups))
+        self._last = (self.version, groups, out)
+        return out
+
+    def _prepare(self, groups: Sequence[Group]) -> list[Ready]:
+        """Each group with the rects of its side b: the kind's own list when the side is the
+        whole kind (a side is always some of a kind's bodies, in id order), else picked."""
+        ready = self._ready
+        if ready is not None and ready[0] is groups:
+            return ready[1]
+        rect_of = self.rect_of
+        made = [(rule, probes, others, rule.a, rule.b,
+                 self.rects[rule.b] if len(others) == len(self.bodies[rule.b])
+                 else [rect_of[other.id] for other in others])
+                for rule, probes, others in groups]
+        self._ready = (groups, made)
+        return made
+
+    def _query(self, groups: Sequence[Group]) -> list[Pair]:
+        out: list[Pair] = []
+        rect_of = self.rect_of
+        bounds = self.bounds
+        for rule, probes, others, kind_a, kind_b, rects in self._prepare(groups):
+            if len(probes) == 1:  # the usual group at game scale (a shot, the cannon)
+                probe = probes[0]
+                probe_id = probe.id
+                for i in rect_of[probe_id].collidelistall(rects):
+                    other = others[i]
+                    out.append((probe, other, rule) if probe_id < other.id
+                               else (other, probe, rule))
+                continue
+            # Several probes: first, whether the two kinds' rects meet at all.
+            bound_a = bounds[kind_a] or self._bound(kind_a)
+            bound_b = bounds[kind_b] or self._bound(kind_b)
+            if not bound_a.colliderect(bound_b):
+                continue
+            for probe in probes:
+                probe_id = probe.id
+                for i in rect_of[probe_id].collidelistall(rects):
+                    other = others[i]
+                    out.append((probe, other, rule) if probe_id < other.id
+                               else (other, probe, rule))
+        if len(out) > 1:
+            out.sort(key=pair_key)
+        return out
