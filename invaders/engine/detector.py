@@ -92,22 +92,26 @@ class Adaptive:
         self.pairs = self.active.pairs
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
-        self.fit(scene, kinds, force=True)
+        """The tier for the scene's body count, built from the scene itself."""
+        self._choose(sum(len(bodies) for bodies in scene.by_kind.values()))
+        self.active.rebuild(scene, kinds)  # the buffer is moot
 
-    def fit(self, scene: Scene, kinds: KindSets, force: bool = False) -> None:
-        """The tier for the scene's body count now (a tier up to the one in use is kept
-        down to its lower count); a new one, or `force`, is built from the scene itself."""
-        n = scene.size if isinstance(scene, BodyStore) else sum(
-            len(bodies) for bodies in scene.by_kind.values())
+    def fit(self, store: BodyStore, kinds: KindSets) -> None:
+        """Bodies came or went: a new tier if the count left the one in use's."""
+        n = store.size
         if not self._low <= n < self._high:
-            tier = 0
-            for place, (_, start, keep) in enumerate(TIERS):
-                if n >= (keep if place <= self._tier else start):
-                    tier = place
+            self._choose(n)
+            self.active.rebuild(store, kinds)
+
+    def _choose(self, n: int) -> None:
+        """The tier for n bodies: a tier up to the one in use is kept down to its lower
+        count, one above it is taken from its higher."""
+        tier = 0
+        for place, (_, start, keep) in enumerate(TIERS):
+            if n >= (keep if place <= self._tier else start):
+                tier = place
+        if tier != self._tier:
             self._take(tier)
-            force = True
-        if force:
-            self.active.rebuild(scene, kinds)  # from the scene itself: the buffer is moot
 
     def in_zone(self, scene: Scene, kind: int, zone: ZoneIndex, kinds: KindSets) -> list[Body]:
         in_zone = getattr(self.active, "in_zone", None)
@@ -209,6 +213,7 @@ class Detector:
         self._zoned: list[tuple[int, PairRule, ZoneIndex]] = []
         self._allowed = 0
         self._quiet = CollisionStats()
+        self._parted = CollisionStats()  # the counters of the last tick whose pairs all parted
         # (bodies, pairs allowed) -> the counters of a tick with no pairs
         self._quiet_by_count: dict[tuple[int, int], CollisionStats] = {}
         # A broad phase may find the bodies in a zone faster than testing each one.
@@ -218,7 +223,7 @@ class Detector:
     def detect(self, store: BodyStore) -> tuple[list[Contact], CollisionStats]:
         """This tick's contacts in (time, low id, high id) order, and the counters."""
         broadphase = self.broadphase
-        if broadphase.move_buffer is not None and store.listener is not broadphase:
+        if store.listener is not broadphase and broadphase.move_buffer is not None:
             # A broad phase that keeps state hears of every later change from the store;
             # it starts from the store as it is. (Stateless ones need not listen.)
             store.attach(broadphase)
@@ -312,11 +317,17 @@ class Detector:
             time = walked.time if walked is not None else END
             contacts.append(_new(Contact, (tick, time, a.id, b.id, a.kind, b.kind, a.x, a.y,
                                            b.x, b.y, *point, rule)))
-        if len(contacts) > 1:  # by time; ties stay in the pairs' (low id, high id) order
-            contacts.sort(key=contact_time)
-        stats = _new(CollisionStats, (n, n * (n - 1) // 2, allowed, len(pairs), len(pairs),
-                                      rect_hits + swept_tests, mask_tests, mask_hits, swept_tests,
-                                      len(contacts)))
+        if contacts or rect_hits or swept_tests:
+            if len(contacts) > 1:  # by time; ties stay in the pairs' (low id, high id) order
+                contacts.sort(key=contact_time)
+            stats = _new(CollisionStats, (n, n * (n - 1) // 2, allowed, len(pairs), len(pairs),
+                                          rect_hits + swept_tests, mask_tests, mask_hits,
+                                          swept_tests, len(contacts)))
+        else:  # every pair parted at the quick test, as on most ticks with pairs: the
+            stats = self._parted  # counters repeat while the counts do
+            if stats[3] != len(pairs) or stats[2] != allowed or stats[0] != n:
+                stats = self._parted = _new(CollisionStats, (
+                    n, n * (n - 1) // 2, allowed, len(pairs), len(pairs), 0, 0, 0, 0, 0))
         if observers:
             for observer in observers:
                 observer.after(store, pairs, contacts, stats)
