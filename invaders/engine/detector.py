@@ -214,6 +214,10 @@ class Detector:
         self._allowed = 0
         self._quiet = CollisionStats()
         self._parted = CollisionStats()  # the counters of the last tick whose pairs all parted
+        # A broad phase that keeps state answers the same groups the same until it hears of
+        # a change (its move buffer fills): the groups last asked, and the answer.
+        self._asked: Sequence[Group] | None = None
+        self._answer: Sequence[Pair] = ()
         # (bodies, pairs allowed) -> the counters of a tick with no pairs
         self._quiet_by_count: dict[tuple[int, int], CollisionStats] = {}
         # A broad phase may find the bodies in a zone faster than testing each one.
@@ -228,6 +232,7 @@ class Detector:
             # it starts from the store as it is. (Stateless ones need not listen.)
             store.attach(broadphase)
             broadphase.rebuild(store, self.kinds)
+            self._asked = None
         observers = self.observers
         if observers:
             for observer in reversed(observers):
@@ -240,7 +245,15 @@ class Detector:
         if zoned:
             groups, in_zones = self._with_zones(store, groups, zoned)
             allowed += in_zones
-        pairs = broadphase.pairs(store, groups, self.kinds) if groups else ()
+        if groups is self._asked and not broadphase.move_buffer:
+            pairs = self._answer  # nothing heard since the same groups were asked
+        elif groups:
+            pairs = broadphase.pairs(store, groups, self.kinds)
+            if broadphase.move_buffer is not None:  # it keeps state: the answer holds
+                self._asked = groups
+                self._answer = pairs
+        else:
+            pairs = ()
         if not pairs:  # the usual tick at game scale: the same counters as last time
             contacts: list[Contact] = []
             stats = self._quiet if not zoned else self._quiet_counters(store.size, allowed)
@@ -341,6 +354,7 @@ class Detector:
             self._plans.clear()
             self._planned_for = store
         self._membership = store.membership
+        self._asked = None
         if self._fit is not None:
             self._fit(store, self.kinds)
         plan = self._plans.get(store.present)
