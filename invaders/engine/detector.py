@@ -242,10 +242,11 @@ class Detector:
         groups = self._groups
         allowed = self._allowed
         zoned = self._zoned
+        heard = bool(broadphase.move_buffer)  # first: finding a zone's bodies may drain it
         if zoned:
             groups, in_zones = self._with_zones(store, groups, zoned)
             allowed += in_zones
-        if groups is self._asked and not broadphase.move_buffer:
+        if groups is self._asked and not heard:
             pairs = self._answer  # nothing heard since the same groups were asked
         elif groups:
             pairs = broadphase.pairs(store, groups, self.kinds)
