@@ -66,6 +66,7 @@ class CellRects:
         few moved (as the grid's)."""
         swept = kinds.swept
         ranges = self.ranges
+        rect_of = self.rect_of
         bounds = self.bounds
         c = self.cell
         changed = False
@@ -94,14 +95,17 @@ class CellRects:
                     y0 = py
                 elif py + body.h > y1:
                     y1 = py + body.h
-            new = (x0 // c * c, y0 // c * c, ((x1 - 1) // c + 1) * c, ((y1 - 1) // c + 1) * c)
+            # The cells' box (never inside out: a box of no width still has its left edge).
+            fx0 = x0 // c * c
+            fy0 = y0 // c * c
+            fx1 = ((x1 - 1) // c + 1) * c
+            fy1 = ((y1 - 1) // c + 1) * c
+            new = (fx0, fy0, fx1, fy1)
             if new != old:
-                fx0, fy0, fx1, fy1 = new
                 if old is None:
-                    self._add(body, pygame.Rect(fx0, fy0, max(0, fx1 - fx0),
-                                                max(0, fy1 - fy0)))
+                    self._add(body, pygame.Rect(fx0, fy0, fx1 - fx0, fy1 - fy0))
                 else:
-                    self.rect_of[body.id].update(fx0, fy0, max(0, fx1 - fx0), max(0, fy1 - fy0))
+                    rect_of[body.id].update(fx0, fy0, fx1 - fx0, fy1 - fy0)
                 ranges[body.id] = new
                 bounds[body.kind] = None
                 changed = True
