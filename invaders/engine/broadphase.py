@@ -36,7 +36,10 @@ class Scene(Protocol):
 class BroadPhase(Protocol):
     name: str
     cell: int  # the grid's cell size in px; 0 for broad phases without cells
-    move_buffer: list[Body] | None  # filled by the store; None: it keeps no state
+    # Filled by the store (None: it keeps no state), emptied only by the broad phase itself
+    # when asked. While it stays empty the same groups get the same answer: the detector
+    # then answers a tick from the last one without asking.
+    move_buffer: list[Body] | None
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
         """Start again from every body of the scene."""
