@@ -187,9 +187,9 @@ def _cells(broadphase, body_id: int) -> tuple[int, int, int, int]:
     if isinstance(broadphase, Grid):
         return broadphase.ranges[body_id]
     c = broadphase.cell
-    x0, y0, x1, y1 = broadphase.ranges[body_id]
-    assert broadphase.rect_of[body_id] == (x0, y0, x1 - x0, y1 - y0)
-    return x0 // c, y0 // c, x1 // c - 1, y1 // c - 1
+    rect = broadphase.rect_of[body_id]
+    assert rect.x % c == rect.y % c == rect.w % c == rect.h % c == 0
+    return rect.x // c, rect.y // c, rect.right // c - 1, rect.bottom // c - 1
 
 
 ON_CELLS = pytest.mark.parametrize("make", [Grid, CellRects], ids=["grid", "rects"])

@@ -41,7 +41,6 @@ class CellRects:
         self.bodies: dict[int, list[Body]] = {}
         self.rects: dict[int, list[pygame.Rect]] = {}  # rects[kind][i] is bodies[kind][i]'s
         self.rect_of: dict[int, pygame.Rect] = {}  # body id -> its rect (the same object)
-        self.ranges: dict[int, tuple[int, int, int, int]] = {}  # body id -> its rect's box
         self.bounds: dict[int, pygame.Rect | None] = {}  # per kind, all its rects' union
         self.version = 0  # moves whenever a rect does, or a body comes or goes
         self._ready: tuple[Sequence[Group], list[Ready]] | None = None
@@ -53,7 +52,6 @@ class CellRects:
         self.bodies = {kind: [] for kind in scene.by_kind}
         self.rects = {kind: [] for kind in scene.by_kind}
         self.rect_of = {}
-        self.ranges = {}
         self.bounds = dict.fromkeys(scene.by_kind)
         self._ready = None
         self.move_buffer.extend(body for bodies in scene.by_kind.values() for body in bodies)
@@ -63,9 +61,8 @@ class CellRects:
     def _drain(self, tick: int, kinds: KindSets) -> None:
         """Apply the move buffer: each body's rect is the cells its box covers (over the
         tick's motion for swept kinds), changed in place; the fence is the same box while
-        few moved (as the grid's)."""
+        few moved (as the grid's), so a fence is the rect as it was (or no box at all)."""
         swept = kinds.swept
-        ranges = self.ranges
         rect_of = self.rect_of
         bounds = self.bounds
         c = self.cell
@@ -73,9 +70,9 @@ class CellRects:
         buffer = self.move_buffer
         fenced = len(buffer) <= FEW_MOVES
         for body in buffer:
-            old = ranges.get(body.id)
+            rect = rect_of.get(body.id)
             if not body.alive:
-                if old is not None:
+                if rect is not None:
                     self._forget(body)
                     changed = True
                 continue
@@ -101,12 +98,11 @@ class CellRects:
             fx1 = ((x1 - 1) // c + 1) * c
             fy1 = ((y1 - 1) // c + 1) * c
             new = (fx0, fy0, fx1, fy1)
-            if new != old:
-                if old is None:
-                    self._add(body, pygame.Rect(fx0, fy0, fx1 - fx0, fy1 - fy0))
-                else:
-                    rect_of[body.id].update(fx0, fy0, fx1 - fx0, fy1 - fy0)
-                ranges[body.id] = new
+            if rect is None:
+                self._add(body, pygame.Rect(fx0, fy0, fx1 - fx0, fy1 - fy0))
+                changed = True
+            elif new != body.fence:
+                rect.update(fx0, fy0, fx1 - fx0, fy1 - fy0)
                 bounds[body.kind] = None
                 changed = True
             body.fence = new if fenced else NOWHERE
@@ -118,6 +114,7 @@ class CellRects:
         bodies = self.bodies.setdefault(body.kind, [])
         rects = self.rects.setdefault(body.kind, [])
         self.rect_of[body.id] = rect
+        self.bounds[body.kind] = None
         if not bodies or bodies[-1].id < body.id:
             bodies.append(body)
             rects.append(rect)
@@ -131,7 +128,6 @@ class CellRects:
         del bodies[place]
         del self.rects[body.kind][place]
         del self.rect_of[body.id]
-        del self.ranges[body.id]
         self.bounds[body.kind] = None
 
     def _bound(self, kind: int) -> pygame.Rect:
