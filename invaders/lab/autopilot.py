@@ -65,6 +65,10 @@ class Autopilot:
         self._target: int | None = None
         self._has_targets = False
         self._columns = ShooterColumns()
+        self._lit: frozenset[int] = frozenset()  # shield columns last seen, and less 8
+        self._lit_edges: frozenset[int] = frozenset()
+        self._speeds = None  # the bombs' speeds last seen, and per tick: (fast from, fast, slow)
+        self._per_tick = (0, 0.0, 0.0)
 
     def actions(self, world: World) -> int:
         if world.phase is GAME_OVER:
@@ -74,6 +78,7 @@ class Autopilot:
             return 0
         centre = cannon.x + 8
         # The steps of a tick, the usual cases inlined (calls cost more than most of them).
+        target = None
         if self._wander > 0:  # drifting for a while, so games differ by seed
             self._wander -= 1
             wish = self._wander_dir
@@ -90,7 +95,7 @@ class Autopilot:
         move = self._choose(world, threats, wish) if threats else wish
         bits = LEFT if move < 0 else RIGHT if move > 0 else 0
         fire = (not self._fire_held and world.shot is None
-                and self._want_fire(world, centre))
+                and self._want_fire(world, centre, target))
         self._fire_held = fire
         return bits | FIRE if fire else bits
 
@@ -99,26 +104,35 @@ class Autopilot:
         rows, ticks until they have passed them)."""
         cannon = world.cannon
         speeds = world.config.speeds
-        fast = world.rack.live <= speeds.bomb_fast_at
-        per_tick = (speeds.bomb_fast if fast else speeds.bomb) / 3
+        if speeds is not self._speeds:
+            self._speeds = speeds
+            self._per_tick = (speeds.bomb_fast_at, speeds.bomb_fast / 3, speeds.bomb / 3)
+        fast_at, fast, slow = self._per_tick
+        per_tick = fast if world.rack.live <= fast_at else slow
+        top = cannon.y
+        bottom = top + cannon.h
+        noticed_ids = self._noticed
         threats = []
         for slot in world.slots:
             bomb = slot.bomb
             if bomb is None:
                 continue
-            noticed = self._noticed.get(bomb.id)
+            noticed = noticed_ids.get(bomb.id)
             if noticed is None:  # seen for the first time: noticed or not, once for all
-                noticed = self._noticed[bomb.id] = self.rng.random() < self.skill
+                noticed = noticed_ids[bomb.id] = self.rng.random() < self.skill
             if not noticed:
                 continue
-            if bomb.y >= cannon.y + cannon.h:
+            y = bomb.y
+            if y >= bottom:
                 continue
             # Bombs jump a whole step every third tick: arrive a step early, leave a step late,
             # and a column of margin either side.
-            arrive = max(0.0, (cannon.y - (bomb.y + bomb.h)) / per_tick - 3)
-            if arrive > DODGE_LOOKAHEAD_TICKS:
+            arrive = (top - (y + bomb.h)) / per_tick - 3
+            if arrive < 0.0:
+                arrive = 0.0
+            elif arrive > DODGE_LOOKAHEAD_TICKS:
                 continue
-            leave = (cannon.y + cannon.h - bomb.y) / per_tick + 3
+            leave = (bottom - y) / per_tick + 3
             threats.append((bomb.x - DODGE_MARGIN, bomb.x + bomb.w - 1 + DODGE_MARGIN,
                             arrive, leave))
         if len(self._noticed) > 64:
@@ -174,26 +188,40 @@ class Autopilot:
         # The first alien, in column order, that is least (not under a shield, lowest, then
         # nearest the cannon): those in the clear first, and only if none is, all of them
         # (the comparison written out, as tuples cost more).
-        lit = frozenset() if self._through_shields else self._shields.lit(world)
-        centre = world.cannon.x + 8
+        # Alien and cannon alike by the left edge of their 16-px boxes (centres less 8).
+        shaded = frozenset() if self._through_shields else self._shaded(world)
+        cannon_x = world.cannon.x
         for anywhere in (False, True):
             best_x = None
-            best_y = best_dist = 0
+            best_y = -1  # the lowest has the largest y (its picture's top is y + 8)
+            best_dist = 0
             for alien in targets:
-                x = alien.x + 8
-                if not anywhere and x in lit:
+                x = alien.x
+                if x in shaded and not anywhere:
                     continue
-                y = alien.y  # the lowest has the largest y (its picture's top is y + 8)
-                dist = x - centre if x > centre else centre - x
-                if best_x is None or y > best_y or (y == best_y and dist < best_dist):
+                y = alien.y
+                if y < best_y:
+                    continue
+                dist = x - cannon_x if x > cannon_x else cannon_x - x
+                if y > best_y or dist < best_dist:
                     best_x, best_y, best_dist = x, y, dist
             if best_x is not None:
-                return best_x
+                return best_x + 8
         return None
 
-    def _want_fire(self, world: World, centre: int) -> bool:
-        """Whether to press fire, the shot being free and not held down last tick."""
-        target = self._target_x(world)
+    def _shaded(self, world: World) -> frozenset[int]:
+        """The left edges of the 16-px boxes whose centre column a shield covers."""
+        lit = self._shields.lit(world)
+        if lit is not self._lit:
+            self._lit = lit
+            self._lit_edges = frozenset(x - 8 for x in lit)
+        return self._lit_edges
+
+    def _want_fire(self, world: World, centre: int, target: int | None) -> bool:
+        """Whether to press fire, the shot being free and not held down last tick (`target`:
+        this tick's, if worked out already)."""
+        if target is None:
+            target = self._target_x(world)
         if target is None or not self._has_targets:
             return False  # nothing it is willing to shoot at: it is hiding
         # The next shot would score 300 on the saucer: keep it for the saucer, and fire it
