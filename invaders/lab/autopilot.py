@@ -65,7 +65,7 @@ class Autopilot:
         self._target: int | None = None
         self._has_targets = False
         self._columns = ShooterColumns()
-        self._lit: frozenset[int] = frozenset()  # shield columns last seen, and less 8
+        self._shade_key: tuple = (None, -1)  # the shields (and their wear) last seen
         self._lit_edges: frozenset[int] = frozenset()
         self._speeds = None  # the bombs' speeds last seen, and per tick: (fast from, fast, slow)
         self._per_tick = (0, 0.0, 0.0)
@@ -86,7 +86,11 @@ class Autopilot:
             if self.rng.random() < 0.004:
                 self._wander = self.rng.randint(10, 60)
                 self._wander_dir = self.rng.choice((-1, 1))
-            target = self._target_x(world)  # approach it
+            tick = world.store.tick  # approach the target (self._target_x, inlined)
+            if self._target_tick != tick:
+                self._target_tick = tick
+                self._target = self._find_target(world)
+            target = self._target
             if target is None or -1 <= target - centre <= 1:
                 wish = 0
             else:
@@ -140,32 +144,29 @@ class Autopilot:
             self._noticed = {k: v for k, v in self._noticed.items() if k in live}
         return threats
 
-    def _first_hit(self, world: World, threats, direction: int) -> float:
-        """Ticks until a threat would hit the cannon if it held `direction`; inf if never."""
+    def _choose(self, world: World, threats, wish: int) -> int:
+        """The wished move if it stays clear of every noticed bomb; else the safest move:
+        the one whose first hit, holding it, comes latest."""
         g = world.config.geometry
         low, high = g.cannon_min_x, g.cannon_max_x
         x0 = world.cannon.x
-        first = INF
-        for left, right, arrive, leave in threats:
-            xa = x0 + direction * int(arrive)
-            xa = low if xa < low else high if xa > high else xa
-            xb = x0 + direction * int(leave + 1)
-            xb = low if xb < low else high if xb > high else xb
-            if xa > xb:
-                xa, xb = xb, xa
-            if left <= xb + CANNON_LIT[1] and xa + CANNON_LIT[0] <= right and arrive < first:
-                first = arrive
-        return first
-
-    def _choose(self, world: World, threats, wish: int) -> int:
-        """The wished move if it stays clear of every noticed bomb; else the safest move."""
+        lit_left, lit_right = CANNON_LIT
         best, latest = wish, -1.0
         for d in MOVES_IN_ORDER[wish]:
-            time = self._first_hit(world, threats, d)
-            if time == INF:
+            first = INF  # ticks until a threat would hit the cannon holding d
+            for left, right, arrive, leave in threats:
+                xa = x0 + d * int(arrive)
+                xa = low if xa < low else high if xa > high else xa
+                xb = x0 + d * int(leave + 1)
+                xb = low if xb < low else high if xb > high else xb
+                if xa > xb:
+                    xa, xb = xb, xa
+                if left <= xb + lit_right and xa + lit_left <= right and arrive < first:
+                    first = arrive
+            if first == INF:
                 return d
-            if time > latest:  # ties: the earlier option, as the order says
-                best, latest = d, time
+            if first > latest:  # ties: the earlier option, as the order says
+                best, latest = d, first
         return best
 
     def _target_x(self, world: World) -> int | None:
@@ -210,11 +211,11 @@ class Autopilot:
         return None
 
     def _shaded(self, world: World) -> frozenset[int]:
-        """The left edges of the 16-px boxes whose centre column a shield covers."""
-        lit = self._shields.lit(world)
-        if lit is not self._lit:
-            self._lit = lit
-            self._lit_edges = frozenset(x - 8 for x in lit)
+        """The left edges of the 16-px boxes whose centre column a shield covers (worked
+        out again when the shields change: the wave's, or their wear)."""
+        if world.erosions != self._shade_key[1] or world.bunkers is not self._shade_key[0]:
+            self._shade_key = (world.bunkers, world.erosions)
+            self._lit_edges = frozenset(x - 8 for x in self._shields.lit(world))
         return self._lit_edges
 
     def _want_fire(self, world: World, centre: int, target: int | None) -> bool:
