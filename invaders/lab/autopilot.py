@@ -230,7 +230,7 @@ class Autopilot:
         if self.saucer_trick and world.shots_removed % 15 == 7 and (
                 world.saucer.saucer is None or not self._clear_column(world, centre)):
             return False
-        if not self._through_shields and centre in self._shields.lit(world):
+        if not self._through_shields and centre - 8 in self._shaded(world):
             return False
         fire = abs(target - centre) <= 3 or self.rng.random() < 0.02
         if fire:
