@@ -242,10 +242,12 @@ class Detector:
         groups = self._groups
         allowed = self._allowed
         zoned = self._zoned
-        heard = bool(broadphase.move_buffer)  # first: finding a zone's bodies may drain it
         if zoned:
+            heard = bool(broadphase.move_buffer)  # first: finding a zone's bodies may drain it
             groups, in_zones = self._with_zones(store, groups, zoned)
             allowed += in_zones
+        else:
+            heard = broadphase.move_buffer  # (its truth is all that is read)
         if groups is self._asked and not heard:
             pairs = self._answer  # nothing heard since the same groups were asked
         elif groups:
@@ -355,7 +357,7 @@ class Detector:
             self._plans.clear()
             self._planned_for = store
         self._membership = store.membership
-        self._asked = None
+        self._asked = None  # (a broad phase that fits itself to the count may start afresh)
         if self._fit is not None:
             self._fit(store, self.kinds)
         plan = self._plans.get(store.present)
