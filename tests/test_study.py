@@ -117,10 +117,16 @@ def test_speed_is_charted_per_family_relative_to_the_fastest_on_the_same_scenes(
 
 
 def test_big_adds_a_storm_of_30000_bodies_to_the_scaling_without_brute_force():
-    from invaders.lab.plan import BIG_STORM, make_plan
+    from invaders.lab.plan import BIG_STORM, RECTS_LIMIT, make_plan
 
     plan = make_plan([], quick=False, big=True)
     assert plan.scaling[-1] == BIG_STORM == 30000
     ((_, methods),) = [w for w in plan.work if w[0].bodies == BIG_STORM]
-    assert {m.broad for m in methods} == {"grid", "sweep", "numpy"}
+    assert {m.broad for m in methods} == {"grid", "sweep", "numpy", "auto"}  # no brute force
+    sized: dict[int, set[str]] = {}  # every broad phase a storm of each size is played with
+    for spec, methods in plan.work:
+        if spec.bodies:
+            sized.setdefault(spec.bodies, set()).update(m.broad for m in methods)
+    assert sized.keys() == set(plan.scaling)
+    assert all(("rects" in broads) == (n <= RECTS_LIMIT) for n, broads in sized.items())
     assert BIG_STORM not in make_plan([], quick=False).scaling

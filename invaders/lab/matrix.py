@@ -1,10 +1,10 @@
 """The method matrix: each cell a way to detect collisions, built as a Detector.
 
 Dimensions: broad phase (brute force, grid with a cell of 4 to 128 px or chosen from the
-scene, sort-and-sweep, the numpy broad phase), quick test (rect, circle), thorough test
-(none: boxes are taken as the shapes; mask), motion (discrete, swept, or auto: per entry,
-the cheapest proven exact for the scene's speeds), and temporal sampling (detection every
-1, 2, 4 or 8 original frames).
+scene, sort-and-sweep, the numpy broad phase, the cell rects, the engine's automatic
+choice), quick test (rect, circle), thorough test (none: boxes are taken as the shapes;
+mask), motion (discrete, swept, or auto: per entry, the cheapest proven exact for the
+scene's speeds), and temporal sampling (detection every 1, 2, 4 or 8 original frames).
 Every broad phase gives the same contacts (the contract), so accuracy depends only on the
 other dimensions, and speed on all of them.
 """
@@ -25,7 +25,7 @@ from invaders.lab.methods import QUICK_TESTS
 
 @dataclass(frozen=True)
 class Method:
-    broad: str = "grid"  # brute | grid | sweep | numpy
+    broad: str = "grid"  # brute | grid | sweep | numpy | rects | auto
     cell: int = DEFAULT_CELL  # grid cell in px; 0: chosen from the scene
     quick: str = "rect"  # rect | circle
     thorough: str = "mask"  # none | mask
@@ -85,5 +85,6 @@ def accuracy_matrix(quick: bool) -> list[Method]:
 def broad_matrix(quick: bool) -> list[Method]:
     """Broad-phase cells with the default narrow phase."""
     cells = (8, 16, 32, 64) if quick else CELLS
-    return ([Method(broad="brute"), Method(broad="sweep"), Method(broad="numpy"), Method(cell=0)]
+    return ([Method(broad="brute"), Method(broad="sweep"), Method(broad="numpy"),
+             Method(broad="rects"), Method(broad="auto"), Method(cell=0)]
             + [Method(cell=c) for c in cells])

@@ -23,6 +23,7 @@ from invaders.lab.matrix import Method, accuracy_matrix, broad_matrix
 from invaders.lab.runner import SceneSpec, run_scene
 
 BRUTE_LIMIT = 1000  # bodies: above this, brute force would take minutes a tick
+RECTS_LIMIT = 3000  # bodies: above this, brute force in C (the cell rects) takes seconds
 
 
 @dataclass
@@ -59,7 +60,8 @@ def make_plan(replays: Iterable[Path], quick: bool, big: bool = False) -> Plan:
     for m in multipliers:
         plan.work.append((SceneSpec.storm(300 if quick else 1000, storm_ticks, m), accuracy))
     for n in sizes:
-        methods = [x for x in broad if x.broad != "brute" or n <= BRUTE_LIMIT]
+        methods = [x for x in broad if (x.broad != "brute" or n <= BRUTE_LIMIT)
+                   and (x.broad != "rects" or n <= RECTS_LIMIT)]
         plan.work.append((SceneSpec.storm(n, storm_ticks), methods))
     plan.scaling = list(sizes)
     plan.scaling_ticks = storm_ticks
@@ -158,8 +160,9 @@ def game_counters(replay: Path, ticks: int = 3600) -> dict[str, list[int]]:
 
 
 def scaling_rows(plan: Plan, rows: list[dict], budget: float) -> list[dict]:
-    """Per storm size: ours (chosen from the scene, the grid, numpy), brute force (from the
-    cells), groupcollide and pymunk given the same work (`references.PymunkScene`)."""
+    """Per storm size: ours (chosen from the scene, the engine's automatic choice, the grid,
+    numpy, the cell rects), brute force (from the cells), groupcollide and pymunk given the
+    same work (`references.PymunkScene`)."""
     from invaders.lab.references import groupcollide_us, pymunk_steady_us
     from invaders.lab.runner import record, scene_rules
 
@@ -170,9 +173,10 @@ def scaling_rows(plan: Plan, rows: list[dict], budget: float) -> list[dict]:
                 if r["scene"] == name and r["method"].endswith("rect/mask/auto/every1")}
         frames = record(SceneSpec.storm(n, plan.scaling_ticks))
         out.append({"bodies": n, "ours_auto": mine.get("gridauto"),
+                    "engine_auto": mine.get("auto"),
                     "grid_default": mine.get(f"grid{DEFAULT_CELL}"),
                     "sweep": mine.get("sweep"), "brute": mine.get("brute"),
-                    "numpy": mine.get("numpy"),
+                    "numpy": mine.get("numpy"), "rects": mine.get("rects"),
                     "groupcollide_mask": round(groupcollide_us(frames, budget), 1),
                     "pymunk_boxes": pymunk_steady_us(frames, scene_rules(
                         SceneSpec.storm(n, plan.scaling_ticks)))})
@@ -211,7 +215,9 @@ def study(out: Path, replays: Path | None, quick: bool = False, jobs: int = 1,
                         f"Pipeline counters per tick, {recorded[0].stem}")
     series = {label: [(r["bodies"], r[key]) for r in scale if r.get(key)]
               for label, key in (("ours (broad phase chosen from the scene)", "ours_auto"),
+                                 ("ours (auto: chosen by body count)", "engine_auto"),
                                  ("grid, 32 px", "grid_default"),
+                                 ("cell rects (brute force in C)", "rects"),
                                  ("numpy broad phase", "numpy"),
                                  ("brute force", "brute"), ("sort-and-sweep", "sweep"),
                                  ("groupcollide + collide_mask", "groupcollide_mask"),
@@ -234,7 +240,7 @@ def game_scale(rows: list[dict]) -> list[str]:
             int(row[k]) for k in ("missed", "false", "late"))
     exact = {m: sum(t) / len(t) for m, t in by_method.items()
              if errors[m] == 0 and len(t) == len(scenes)}
-    default = f"grid{DEFAULT_CELL}/rect/mask/auto/every1"
+    default = "auto/rect/mask/auto/every1"  # the game's own broad phase
     if default not in exact:
         return []
     best = min(exact, key=exact.get)

@@ -27,7 +27,7 @@ from invaders.lab.score import Scorer
 from invaders.lab.storm import Storm, storm_rules
 
 AUTO_CHOICES = (Method(broad="brute"), Method(broad="sweep"), Method(broad="numpy"),
-                Method(cell=8), Method(cell=16),
+                Method(broad="rects"), Method(cell=8), Method(cell=16),
                 Method(cell=32), Method(cell=64))
 
 
@@ -103,7 +103,7 @@ def truth(frames: list[Frame], rules: RuleTable) -> list[set[tuple[int, int]]]:
     return out
 
 
-BRUTE_TRIAL_LIMIT = 400  # bodies: brute force is not even tried on bigger scenes
+BRUTE_TRIAL_LIMIT = 400  # bodies: brute force (and in C, the rects) not tried on bigger scenes
 
 
 def choose_broadphase(frames: list[Frame], multiplier: int, rules: RuleTable) -> Method:
@@ -113,7 +113,7 @@ def choose_broadphase(frames: list[Frame], multiplier: int, rules: RuleTable) ->
     probe = 40 if bodies <= 1000 else 4
     best = None
     for method in AUTO_CHOICES:
-        if method.broad == "brute" and bodies > BRUTE_TRIAL_LIMIT:
+        if method.broad in ("brute", "rects") and bodies > BRUTE_TRIAL_LIMIT:
             continue
         seconds = _play(method, frames[:probe], multiplier, rules)[0]
         if best is None or seconds < best[0]:
