@@ -26,7 +26,7 @@ def test_the_target_is_the_first_alien_in_the_clear_then_lowest_then_nearest(pla
     pilot._columns = SimpleNamespace(shooters=lambda world, which: targets)
     pilot._shields = SimpleNamespace(lit=lambda world: lit)
     world = SimpleNamespace(saucer=SimpleNamespace(saucer=None),
-                            cannon=SimpleNamespace(x=centre - 8))
+                            cannon=SimpleNamespace(x=centre - 8), bunkers=(), erosions=0)
     first = min(range(len(targets)), key=lambda i: (
         targets[i].x + 8 in lit, -targets[i].y, abs(targets[i].x + 8 - centre), i))
     assert pilot._find_target(world) == targets[first].x + 8
@@ -40,7 +40,9 @@ def test_shield_columns_are_those_with_a_lit_pixel_and_follow_erosion():
         return {bunker.x + cx for bunker in world.bunkers for cx in range(bunker.w)
                 if any(bunker.mask.get_at((cx, cy)) for cy in range(bunker.h))}
 
+    pilot = Autopilot(1)  # its targets and shots go by the boxes' left edges, 8 px left
     assert columns.lit(world) == lit_by_pixels()
+    assert pilot._shaded(world) == {x - 8 for x in lit_by_pixels()}
     bunker = world.bunkers[1]
     for cx in (10, 11, 12):  # three columns of the second shield cleared...
         for cy in range(bunker.h):
@@ -53,3 +55,4 @@ def test_shield_columns_are_those_with_a_lit_pixel_and_follow_erosion():
     assert (bunker.x + 10 in lit, bunker.x + 11 in lit, bunker.x + 12 in lit) == (
         False, True, True)
     assert lit == lit_by_pixels()
+    assert pilot._shaded(world) == {x - 8 for x in lit}
