@@ -2,8 +2,9 @@
 
 Brute force pairs every allowed body with every other (the reference). Sort-and-sweep sorts
 each group by left edge and compares only boxes whose x-spans overlap. The uniform grid
-(grid.py) keeps cells between ticks, fed by the store's move buffer. All three return the
-same sorted list whenever their boxes overlap, so contacts never depend on the choice.
+(grid.py), the cell rects (rects.py) and the numpy broad phase (numpy_grid.py) keep their
+state between ticks, fed by the store's move buffer. All return every pair whose boxes
+overlap, sorted, so contacts never depend on the choice.
 """
 
 from __future__ import annotations
