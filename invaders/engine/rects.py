@@ -1,13 +1,13 @@
 """Cell rects: the grid's cells without the grid. Each body's cells as one `pygame.Rect`,
 and each probe tested against a whole kind's rects at once, in C (`Rect.collidelistall`).
 
-Brute force, but pygame's loop over 55 rects costs about what Python pays to look up one
-grid cell, and a body that crosses a cell edge changes one rect in place instead of
-leaving and joining cell lists. So at game scale it answers sooner than the grid; from a
-few hundred bodies the grid's locality wins (`detector.GRID_FROM`). Two bodies' rects
-overlap exactly when their cell ranges share a cell, and the rects follow the grid's rules
-(a body's cells are its fence while few move; a resting swept body keeps the range of its
-last motion), so the candidates are the grid's, pair for pair.
+Brute force, but pygame's loop over a kind's 55 rects costs less than the grid's walk over
+a probe's cells in Python, and a body that crosses a cell edge changes one rect in place
+instead of leaving and joining cell lists. So at game scale it answers sooner than the
+grid; from a few hundred bodies the grid's locality wins (`detector.GRID_FROM`). Two
+bodies' rects overlap exactly when their cell ranges share a cell, and the rects follow the
+grid's rules (a body's cells are its fence while few move; a resting swept body keeps the
+range of its last motion), so the candidates are the grid's, pair for pair.
 """
 
 from __future__ import annotations
