@@ -24,6 +24,7 @@ from invaders.engine.grid import DEFAULT_CELL, FEW_MOVES
 from invaders.engine.rules import PairRule
 
 _ID = attrgetter("id")
+READY_KEPT = 32  # groups made ready and kept (one for each set of kinds present)
 # A group made ready to query: its rule, sides, kinds, and the rects of its side b.
 Ready = tuple[PairRule, Sequence[Body], Sequence[Body], int, int, list[pygame.Rect]]
 
@@ -43,7 +44,7 @@ class CellRects:
         self.rect_of: dict[int, pygame.Rect] = {}  # body id -> its rect (the same object)
         self.bounds: dict[int, pygame.Rect | None] = {}  # per kind, all its rects' union
         self.version = 0  # moves whenever a rect does, or a body comes or goes
-        self._ready: tuple[Sequence[Group], list[Ready]] | None = None
+        self._ready: dict[int, tuple[Sequence[Group], list[Ready]]] = {}
         self._last: tuple[int, Sequence[Group], tuple[Pair, ...]] | None = None  # last answer
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
@@ -53,7 +54,7 @@ class CellRects:
         self.rects = {kind: [] for kind in scene.by_kind}
         self.rect_of = {}
         self.bounds = dict.fromkeys(scene.by_kind)
-        self._ready = None
+        self._ready = {}
         self.move_buffer.extend(body for bodies in scene.by_kind.values() for body in bodies)
         self._drain(scene.tick, kinds)
         self.version += 1
@@ -150,8 +151,10 @@ class CellRects:
 
     def _prepare(self, groups: Sequence[Group]) -> list[Ready]:
         """Each group with the rects of its side b: the kind's own list when the side is the
-        whole kind (a side is always some of a kind's bodies, in id order), else picked."""
-        ready = self._ready
+        whole kind (a side is always some of a kind's bodies, in id order), else picked.
+        Kept per groups (a detector asks with the same groups while the same kinds are
+        present, and the kinds' lists change in place), a few at a time."""
+        ready = self._ready.get(id(groups))
         if ready is not None and ready[0] is groups:
             return ready[1]
         rect_of = self.rect_of
@@ -159,7 +162,11 @@ class CellRects:
                  self.rects[rule.b] if len(others) == len(self.bodies[rule.b])
                  else [rect_of[other.id] for other in others])
                 for rule, probes, others in groups]
-        self._ready = (groups, made)
+        whole = all(rects is self.rects[kind_b] for _, _, _, _, kind_b, rects in made)
+        if whole:  # (a zone's picked rects hold only for its tick)
+            if len(self._ready) >= READY_KEPT:
+                self._ready.clear()
+            self._ready[id(groups)] = (groups, made)  # the groups held: the id stays theirs
         return made
 
     def _query(self, groups: Sequence[Group]) -> list[Pair]:
