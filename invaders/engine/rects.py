@@ -24,6 +24,7 @@ from invaders.engine.grid import DEFAULT_CELL, FEW_MOVES
 from invaders.engine.rules import PairRule
 
 _ID = attrgetter("id")
+MANY = 8  # rects from which a lone probe is first tested against their union
 READY_KEPT = 32  # groups made ready and kept (one for each set of kinds present)
 # A group made ready to query: its rule, sides, kinds, and the rects of its side b.
 Ready = tuple[PairRule, Sequence[Body], Sequence[Body], int, int, list[pygame.Rect]]
@@ -177,7 +178,11 @@ class CellRects:
             if len(probes) == 1:  # the usual group at game scale (a shot, the cannon)
                 probe = probes[0]
                 probe_id = probe.id
-                for i in rect_of[probe_id].collidelistall(rects):
+                rect = rect_of[probe_id]
+                if len(rects) > MANY and not rect.colliderect(bounds[kind_b]
+                                                              or self._bound(kind_b)):
+                    continue  # clear of them all (the shot below the rack)
+                for i in rect.collidelistall(rects):
                     other = others[i]
                     out.append((probe, other, rule) if probe_id < other.id
                                else (other, probe, rule))
