@@ -23,6 +23,13 @@ CellRange = tuple[int, int, int, int]
 NONE: CellRange = (1, 1, 0, 0)  # a range of no cells
 
 
+def checked_cell(cell: int) -> int:
+    """A cell size the broad phases built on cells can use (ValueError if not)."""
+    if cell < 1:
+        raise ValueError("grid cell size must be at least 1 px")
+    return cell
+
+
 class Grid:
     """Uniform grid, one layer of cells per kind, so a probe only meets kinds it may hit.
 
@@ -43,9 +50,7 @@ class Grid:
     STRIDE = 1 << 16  # cell key = cy * STRIDE + cx; coordinates stay far inside +-2**20 px
 
     def __init__(self, cell: int = DEFAULT_CELL) -> None:
-        if cell < 1:
-            raise ValueError("grid cell size must be at least 1 px")
-        self.cell = cell
+        self.cell = checked_cell(cell)
         self.move_buffer: list[Body] = []
         self.layers: dict[int, dict[int, list[Body]]] = {}
         # Per layer, how many binned cells each cell row holds: a probe whose rows are all

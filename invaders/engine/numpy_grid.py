@@ -23,7 +23,7 @@ import numpy as np
 
 from invaders.engine.body import NOWHERE, Body
 from invaders.engine.broadphase import Group, KindSets, Pair, Scene
-from invaders.engine.grid import DEFAULT_CELL
+from invaders.engine.grid import DEFAULT_CELL, checked_cell
 
 STRIDE = 1 << 21  # cell key = cy * STRIDE + cx, with cells offset to be non-negative
 OFFSET = 1 << 20
@@ -223,9 +223,7 @@ class NumpyGrid:
     name = "numpy"
 
     def __init__(self, cell: int = DEFAULT_CELL) -> None:
-        if cell < 1:
-            raise ValueError("grid cell size must be at least 1 px")
-        self.cell = cell
+        self.cell = checked_cell(cell)
         self.move_buffer: list[Body] = []
         self.boxes: dict[int, Boxes] = {}
         self.slot: dict[int, int] = {}  # body id -> its row in its kind's table

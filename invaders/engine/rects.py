@@ -20,7 +20,7 @@ import pygame
 
 from invaders.engine.body import NOWHERE, Body
 from invaders.engine.broadphase import Group, KindSets, Pair, Scene, pair_key
-from invaders.engine.grid import DEFAULT_CELL, FEW_MOVES
+from invaders.engine.grid import DEFAULT_CELL, FEW_MOVES, checked_cell
 from invaders.engine.rules import PairRule
 
 _ID = attrgetter("id")
@@ -36,9 +36,7 @@ class CellRects:
     name = "rects"
 
     def __init__(self, cell: int = DEFAULT_CELL) -> None:
-        if cell < 1:
-            raise ValueError("grid cell size must be at least 1 px")
-        self.cell = cell
+        self.cell = checked_cell(cell)
         self.move_buffer: list[Body] = []
         self.bodies: dict[int, list[Body]] = {}
         self.rects: dict[int, list[pygame.Rect]] = {}  # rects[kind][i] is bodies[kind][i]'s
