@@ -213,13 +213,13 @@ class Detector:
         self._zoned: list[tuple[int, PairRule, ZoneIndex]] = []
         self._allowed = 0
         self._quiet = CollisionStats()
-        self._parted = CollisionStats()  # the counters of the last tick whose pairs all parted
         # A broad phase that keeps state answers the same groups the same until it hears of
         # a change (its move buffer fills): the groups last asked, and the answer.
         self._asked: Sequence[Group] | None = None
         self._answer: Sequence[Pair] = ()
-        # (bodies, pairs allowed) -> the counters of a tick with no pairs
-        self._quiet_by_count: dict[tuple[int, int], CollisionStats] = {}
+        # (bodies, pairs allowed, candidates) -> the counters of a tick whose candidates all
+        # parted at the quick test
+        self._quiet_by_count: dict[tuple[int, int, int], CollisionStats] = {}
         # A broad phase may find the bodies in a zone faster than testing each one.
         self._in_zone = getattr(broadphase, "in_zone", None) or _tested_in_zone
         self._fit = getattr(broadphase, "fit", None)  # told when bodies come or go
@@ -339,11 +339,8 @@ class Detector:
             stats = _new(CollisionStats, (n, n * (n - 1) // 2, allowed, len(pairs), len(pairs),
                                           rect_hits + swept_tests, mask_tests, mask_hits,
                                           swept_tests, len(contacts)))
-        else:  # every pair parted at the quick test, as on most ticks with pairs: the
-            stats = self._parted  # counters repeat while the counts do
-            if stats[3] != len(pairs) or stats[2] != allowed or stats[0] != n:
-                stats = self._parted = _new(CollisionStats, (
-                    n, n * (n - 1) // 2, allowed, len(pairs), len(pairs), 0, 0, 0, 0, 0))
+        else:  # every pair parted at the quick test, as on most ticks with pairs
+            stats = self._quiet_counters(n, allowed, len(pairs))
         if observers:
             for observer in observers:
                 observer.after(store, pairs, contacts, stats)
@@ -371,14 +368,16 @@ class Detector:
         n = store.size  # a body came or went: nearly always counters not seen before
         self._quiet = _new(CollisionStats, (n, n * (n - 1) // 2, allowed, 0, 0, 0, 0, 0, 0, 0))
 
-    def _quiet_counters(self, n: int, allowed: int) -> CollisionStats:
-        """The counters of a tick with no candidate pair (kept: most ticks are one)."""
-        stats = self._quiet_by_count.get((n, allowed))
+    def _quiet_counters(self, n: int, allowed: int, candidates: int = 0) -> CollisionStats:
+        """The counters of a tick whose candidates (if any) all parted at the quick test
+        (kept: most ticks are one, and they repeat while the counts do)."""
+        key = (n, allowed, candidates)
+        stats = self._quiet_by_count.get(key)
         if stats is None:
             if len(self._quiet_by_count) > 255:
                 self._quiet_by_count.clear()
-            stats = self._quiet_by_count[(n, allowed)] = _new(
-                CollisionStats, (n, n * (n - 1) // 2, allowed, 0, 0, 0, 0, 0, 0, 0))
+            stats = self._quiet_by_count[key] = _new(CollisionStats, (
+                n, n * (n - 1) // 2, allowed, candidates, candidates, 0, 0, 0, 0, 0))
         return stats
 
     def _plan(self, store: BodyStore
