@@ -24,9 +24,9 @@ def test_the_target_is_the_first_alien_in_the_clear_then_lowest_then_nearest(pla
     targets = [SimpleNamespace(x=x, y=y) for x, y in places]
     pilot = Autopilot(0)
     pilot._columns = SimpleNamespace(shooters=lambda world, which: targets)
-    pilot._shields = SimpleNamespace(lit=lambda world: lit)
+    pilot._shields = SimpleNamespace(edges=lambda world: frozenset(x - 8 for x in lit))
     world = SimpleNamespace(saucer=SimpleNamespace(saucer=None),
-                            cannon=SimpleNamespace(x=centre - 8), bunkers=(), erosions=0)
+                            cannon=SimpleNamespace(x=centre - 8))
     first = min(range(len(targets)), key=lambda i: (
         targets[i].x + 8 in lit, -targets[i].y, abs(targets[i].x + 8 - centre), i))
     assert pilot._find_target(world) == targets[first].x + 8
@@ -42,7 +42,7 @@ def test_shield_columns_are_those_with_a_lit_pixel_and_follow_erosion():
 
     pilot = Autopilot(1)  # its targets and shots go by the boxes' left edges, 8 px left
     assert columns.lit(world) == lit_by_pixels()
-    assert pilot._shaded(world) == {x - 8 for x in lit_by_pixels()}
+    assert pilot._shields.edges(world) == {x - 8 for x in lit_by_pixels()}
     bunker = world.bunkers[1]
     for cx in (10, 11, 12):  # three columns of the second shield cleared...
         for cy in range(bunker.h):
@@ -55,4 +55,4 @@ def test_shield_columns_are_those_with_a_lit_pixel_and_follow_erosion():
     assert (bunker.x + 10 in lit, bunker.x + 11 in lit, bunker.x + 12 in lit) == (
         False, True, True)
     assert lit == lit_by_pixels()
-    assert pilot._shaded(world) == {x - 8 for x in lit}
+    assert pilot._shields.edges(world) == {x - 8 for x in lit}

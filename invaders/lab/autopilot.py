@@ -65,8 +65,6 @@ class Autopilot:
         self._target: int | None = None
         self._has_targets = False
         self._columns = ShooterColumns()
-        self._shade_key: tuple = (None, -1)  # the shields (and their wear) last seen
-        self._lit_edges: frozenset[int] = frozenset()
         self._speeds = None  # the bombs' speeds last seen, and per tick: (fast from, fast, slow)
         self._per_tick = (0, 0.0, 0.0)
 
@@ -190,7 +188,7 @@ class Autopilot:
         # nearest the cannon): those in the clear first, and only if none is, all of them
         # (the comparison written out, as tuples cost more).
         # Alien and cannon alike by the left edge of their 16-px boxes (centres less 8).
-        shaded = frozenset() if self._through_shields else self._shaded(world)
+        shaded = frozenset() if self._through_shields else self._shields.edges(world)
         cannon_x = world.cannon.x
         for anywhere in (False, True):
             best_x = None
@@ -210,14 +208,6 @@ class Autopilot:
                 return best_x + 8
         return None
 
-    def _shaded(self, world: World) -> frozenset[int]:
-        """The left edges of the 16-px boxes whose centre column a shield covers (worked
-        out again when the shields change: the wave's, or their wear)."""
-        if world.erosions != self._shade_key[1] or world.bunkers is not self._shade_key[0]:
-            self._shade_key = (world.bunkers, world.erosions)
-            self._lit_edges = frozenset(x - 8 for x in self._shields.lit(world))
-        return self._lit_edges
-
     def _want_fire(self, world: World, centre: int, target: int | None) -> bool:
         """Whether to press fire, the shot being free and not held down last tick (`target`:
         this tick's, if worked out already)."""
@@ -230,7 +220,7 @@ class Autopilot:
         if self.saucer_trick and world.shots_removed % 15 == 7 and (
                 world.saucer.saucer is None or not self._clear_column(world, centre)):
             return False
-        if not self._through_shields and centre - 8 in self._shaded(world):
+        if not self._through_shields and centre - 8 in self._shields.edges(world):
             return False
         fire = abs(target - centre) <= 3 or self.rng.random() < 0.02
         if fire:
@@ -265,28 +255,30 @@ class ShooterColumns:
 
 class ShieldColumns:
     """Which screen columns still have shield pixels, recomputed only when a shield changes
-    (looked at once a tick: the autopilot reads the world between ticks)."""
+    (the wave's shields, or their wear as the world counts it)."""
 
     def __init__(self) -> None:
         self._seen: dict[int, tuple[int, frozenset[int]]] = {}
-        self._tick = -1
-        self._world: World | None = None
-        self._key: tuple = (None, 0)
+        self._key: tuple = (None, -1)  # the shields and their wear last seen
         self._lit: frozenset[int] = frozenset()
+        self._edges: frozenset[int] = frozenset()
 
     def covers(self, world: World, x: int) -> bool:
         return x in self.lit(world)
 
     def lit(self, world: World) -> frozenset[int]:
         """Every screen column a shield still covers."""
-        tick = world.store.tick
-        if tick != self._tick or world is not self._world:
-            self._tick, self._world = tick, world
-            key = (world.bunkers, world.erosions)  # the wave's shields, and their wear
-            if key[0] is not self._key[0] or key[1] != self._key[1]:
-                self._key = key
-                self._lit = self._all_columns(world)
+        self.edges(world)
         return self._lit
+
+    def edges(self, world: World) -> frozenset[int]:
+        """The left edges of the 16-px boxes (an alien's, the cannon's) whose centre column
+        a shield covers: the columns less 8, as the autopilot compares boxes."""
+        if world.erosions != self._key[1] or world.bunkers is not self._key[0]:
+            self._key = (world.bunkers, world.erosions)
+            self._lit = self._all_columns(world)
+            self._edges = frozenset(x - 8 for x in self._lit)
+        return self._edges
 
     def _all_columns(self, world: World) -> frozenset[int]:
         """Lit columns, each judged by the first shield whose box spans it."""
