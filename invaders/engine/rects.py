@@ -26,8 +26,9 @@ from invaders.engine.rules import PairRule
 _ID = attrgetter("id")
 MANY = 8  # rects from which a lone probe is first tested against their union
 READY_KEPT = 32  # groups made ready and kept (one for each set of kinds present)
-# A group made ready to query: its rule, sides, kinds, and the rects of its side b.
-Ready = tuple[PairRule, Sequence[Body], Sequence[Body], int, int, list[pygame.Rect]]
+# A group made ready to query: its rule, sides, kinds, and the rects of each side.
+Ready = tuple[PairRule, Sequence[Body], Sequence[Body], int, int, list[pygame.Rect],
+              list[pygame.Rect]]
 
 
 class CellRects:
@@ -41,9 +42,12 @@ class CellRects:
         self.bodies: dict[int, list[Body]] = {}
         self.rects: dict[int, list[pygame.Rect]] = {}  # rects[kind][i] is bodies[kind][i]'s
         self.rect_of: dict[int, pygame.Rect] = {}  # body id -> its rect (the same object)
-        self.bounds: dict[int, pygame.Rect | None] = {}  # per kind, all its rects' union
+        # Per kind, a box round all its rects: their union when made, grown as they move,
+        # made again when a body comes or goes (None until needed).
+        self.bounds: dict[int, pygame.Rect | None] = {}
         self.version = 0  # moves whenever a rect does, or a body comes or goes
         self._ready: dict[int, tuple[Sequence[Group], list[Ready]]] = {}
+        self._made: tuple[Sequence[Group], list[Ready]] = ((), [])  # the last made ready
         self._last: tuple[int, Sequence[Group], tuple[Pair, ...]] | None = None  # last answer
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
@@ -54,6 +58,7 @@ class CellRects:
         self.rect_of = {}
         self.bounds = dict.fromkeys(scene.by_kind)
         self._ready = {}
+        self._made = ((), [])
         self.move_buffer.extend(body for bodies in scene.by_kind.values() for body in bodies)
         self._drain(scene.tick, kinds)
         self.version += 1
@@ -103,7 +108,9 @@ class CellRects:
                 changed = True
             elif new != body.fence:
                 rect.update(fx0, fy0, fx1 - fx0, fy1 - fy0)
-                bounds[body.kind] = None
+                bound = bounds[body.kind]
+                if bound is not None:  # grown, not made again: a box round them all will do
+                    bound.union_ip(rect)
                 changed = True
             body.fence = new if fenced else NOWHERE
         buffer.clear()
@@ -111,10 +118,14 @@ class CellRects:
             self.version += 1
 
     def _add(self, body: Body, rect: pygame.Rect) -> None:
-        bodies = self.bodies.setdefault(body.kind, [])
-        rects = self.rects.setdefault(body.kind, [])
+        kind = body.kind
+        bodies = self.bodies.get(kind)
+        if bodies is None:  # a kind the scene did not list when rebuilt
+            bodies = self.bodies[kind] = []
+            self.rects[kind] = []
+        rects = self.rects[kind]
         self.rect_of[body.id] = rect
-        self.bounds[body.kind] = None
+        self.bounds[kind] = None
         if not bodies or bodies[-1].id < body.id:
             bodies.append(body)
             rects.append(rect)
@@ -131,7 +142,8 @@ class CellRects:
         self.bounds[body.kind] = None
 
     def _bound(self, kind: int) -> pygame.Rect:
-        """The union of a kind's rects (kept until one of them changes)."""
+        """The union of a kind's rects, kept (and grown as they move) until a body of the
+        kind comes or goes: a box that holds them all only ever skips less."""
         rects = self.rects[kind]
         bound = self.bounds[kind] = rects[0].unionall(rects)
         return bound
@@ -144,7 +156,7 @@ class CellRects:
         last = self._last
         if last is not None and last[0] == self.version and last[1] is groups:
             return last[2]
-        out = tuple(self._query(groups))
+        out = self._query(groups)
         self._last = (self.version, groups, out)
         return out
 
@@ -155,47 +167,62 @@ class CellRects:
         present, and the kinds' lists change in place), a few at a time."""
         ready = self._ready.get(id(groups))
         if ready is not None and ready[0] is groups:
+            self._made = ready
             return ready[1]
+        rects_of = self.rects
+        bodies_of = self.bodies
         rect_of = self.rect_of
         made = [(rule, probes, others, rule.a, rule.b,
-                 self.rects[rule.b] if len(others) == len(self.bodies[rule.b])
+                 rects_of[rule.a] if len(probes) == len(bodies_of[rule.a])
+                 else [rect_of[probe.id] for probe in probes],
+                 rects_of[rule.b] if len(others) == len(bodies_of[rule.b])
                  else [rect_of[other.id] for other in others])
                 for rule, probes, others in groups]
-        whole = all(rects is self.rects[kind_b] for _, _, _, _, kind_b, rects in made)
+        whole = all(rects_a is rects_of[kind_a] and rects_b is rects_of[kind_b]
+                    for _, _, _, kind_a, kind_b, rects_a, rects_b in made)
         if whole:  # (a zone's picked rects hold only for its tick)
             if len(self._ready) >= READY_KEPT:
                 self._ready.clear()
-            self._ready[id(groups)] = (groups, made)  # the groups held: the id stays theirs
+            # The groups are held by the entry: their id stays theirs while it is kept.
+            self._ready[id(groups)] = self._made = (groups, made)
         return made
 
     def _query(self, groups: Sequence[Group]) -> list[Pair]:
         out: list[Pair] = []
-        rect_of = self.rect_of
         bounds = self.bounds
-        for rule, probes, others, kind_a, kind_b, rects in self._prepare(groups):
+        made = self._made
+        mixed = False  # pairs from more than one probe: each probe's come sorted, not all
+        for rule, probes, others, kind_a, kind_b, probe_rects, rects in (
+                made[1] if made[0] is groups else self._prepare(groups)):
             if len(probes) == 1:  # the usual group at game scale (a shot, the cannon)
-                probe = probes[0]
-                probe_id = probe.id
-                rect = rect_of[probe_id]
+                rect = probe_rects[0]
                 if len(rects) > MANY and not rect.colliderect(bounds[kind_b]
                                                               or self._bound(kind_b)):
                     continue  # clear of them all (the shot below the rack)
-                for i in rect.collidelistall(rects):
-                    other = others[i]
-                    out.append((probe, other, rule) if probe_id < other.id
-                               else (other, probe, rule))
+                hits = rect.collidelistall(rects)
+                if hits:
+                    mixed = mixed or bool(out)
+                    probe = probes[0]
+                    probe_id = probe.id
+                    for i in hits:
+                        other = others[i]
+                        out.append((probe, other, rule) if probe_id < other.id
+                                   else (other, probe, rule))
                 continue
             # Several probes: first, whether the two kinds' rects meet at all.
             bound_a = bounds[kind_a] or self._bound(kind_a)
             bound_b = bounds[kind_b] or self._bound(kind_b)
             if not bound_a.colliderect(bound_b):
                 continue
-            for probe in probes:
-                probe_id = probe.id
-                for i in rect_of[probe_id].collidelistall(rects):
-                    other = others[i]
-                    out.append((probe, other, rule) if probe_id < other.id
-                               else (other, probe, rule))
-        if len(out) > 1:
+            for probe, rect in zip(probes, probe_rects, strict=True):
+                hits = rect.collidelistall(rects)
+                if hits:
+                    mixed = mixed or bool(out)
+                    probe_id = probe.id
+                    for i in hits:
+                        other = others[i]
+                        out.append((probe, other, rule) if probe_id < other.id
+                                   else (other, probe, rule))
+        if mixed:
             out.sort(key=pair_key)
         return out
