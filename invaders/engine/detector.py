@@ -208,7 +208,7 @@ class Detector:
         # What holds until a body comes or goes (the store's membership moves): the plan,
         # the pairs its zone-less groups allow, and the counters of a tick with no pairs.
         self._planned_for: BodyStore | None = None
-        self._membership = 0  # the store's membership when planned
+        self._membership = 0  # the store's membership when planned (never a store's own)
         self._groups: list[Group] = []
         self._zoned: list[tuple[int, PairRule, ZoneIndex]] = []
         self._allowed = 0
@@ -220,25 +220,21 @@ class Detector:
         # (bodies, pairs allowed, candidates) -> the counters of a tick whose candidates all
         # parted at the quick test
         self._quiet_by_count: dict[tuple[int, int, int], CollisionStats] = {}
+        self._parted: Sequence[Pair] = ()  # the last pairs that all parted, and the counters
+        self._parted_stats = CollisionStats()
         # A broad phase may find the bodies in a zone faster than testing each one.
         self._in_zone = getattr(broadphase, "in_zone", None) or _tested_in_zone
         self._fit = getattr(broadphase, "fit", None)  # told when bodies come or go
 
     def detect(self, store: BodyStore) -> tuple[list[Contact], CollisionStats]:
         """This tick's contacts in (time, low id, high id) order, and the counters."""
-        broadphase = self.broadphase
-        if store.listener is not broadphase and broadphase.move_buffer is not None:
-            # A broad phase that keeps state hears of every later change from the store;
-            # it starts from the store as it is. (Stateless ones need not listen.)
-            store.attach(broadphase)
-            broadphase.rebuild(store, self.kinds)
-            self._asked = None
         observers = self.observers
         if observers:
             for observer in reversed(observers):
                 observer.before(store)
-        if store.membership != self._membership or store is not self._planned_for:
+        if store.membership != self._membership:  # (bodies came or went, or it is new to us)
             self._replan(store)
+        broadphase = self.broadphase
         groups = self._groups
         allowed = self._allowed
         zoned = self._zoned
@@ -339,17 +335,27 @@ class Detector:
             stats = _new(CollisionStats, (n, n * (n - 1) // 2, allowed, len(pairs), len(pairs),
                                           rect_hits + swept_tests, mask_tests, mask_hits,
                                           swept_tests, len(contacts)))
+        elif pairs is self._parted and allowed == self._parted_stats.allowed_pairs:
+            stats = self._parted_stats  # the same pairs parted again, as on most such ticks
         else:  # every pair parted at the quick test, as on most ticks with pairs
-            stats = self._quiet_counters(n, allowed, len(pairs))
+            stats = self._parted_stats = self._quiet_counters(n, allowed, len(pairs))
+            self._parted = pairs
         if observers:
             for observer in observers:
                 observer.after(store, pairs, contacts, stats)
         return contacts, stats
 
     def _replan(self, store: BodyStore) -> None:
-        """A body came or went: the plan for the kinds present now (kept per set of kinds,
-        for the store it was made for), the pairs its zone-less groups allow, and the
-        counters of a tick that finds no pairs."""
+        """A body came or went (or the store is new to this detector, or its broad phase
+        was detached): the plan for the kinds present now (kept per set of kinds, for the
+        store it was made for), the pairs its zone-less groups allow, and the counters of a
+        tick that finds no pairs."""
+        broadphase = self.broadphase
+        if store.listener is not broadphase and broadphase.move_buffer is not None:
+            # A broad phase that keeps state hears of every later change from the store;
+            # it starts from the store as it is. (Stateless ones need not listen.)
+            store.attach(broadphase)
+            broadphase.rebuild(store, self.kinds)
         if self._planned_for is not store:  # plans hold a store's own lists of bodies
             self._plans.clear()
             self._planned_for = store
@@ -365,8 +371,7 @@ class Detector:
         for _, side_a, side_b in self._groups:
             allowed += len(side_a) * len(side_b)
         self._allowed = allowed
-        n = store.size  # a body came or went: nearly always counters not seen before
-        self._quiet = _new(CollisionStats, (n, n * (n - 1) // 2, allowed, 0, 0, 0, 0, 0, 0, 0))
+        self._quiet = self._quiet_counters(store.size, allowed)
 
     def _quiet_counters(self, n: int, allowed: int, candidates: int = 0) -> CollisionStats:
         """The counters of a tick whose candidates (if any) all parted at the quick test

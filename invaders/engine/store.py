@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from bisect import bisect_left, insort
 from collections.abc import Iterable
+from itertools import count
 from operator import attrgetter
 from typing import Protocol
 
@@ -19,6 +20,9 @@ import pygame
 from invaders.engine.body import NOWHERE, Body
 
 _ID = attrgetter("id")
+# Membership values, never the same twice in a process: a detector that saw one knows the
+# store, its bodies and the broad phase it feeds are as it left them.
+_memberships = count(1)
 
 
 class Listener(Protocol):
@@ -39,19 +43,23 @@ class BodyStore:
         self._buffer: list[Body] | None = None
         self.size = 0  # live bodies, and a bit (1 << kind) for each kind that has some:
         self.present = 0  # kept as they change, so a detector need not count every tick
-        self.membership = 0  # moves whenever a body is added or removed
+        # A new value whenever a body is added or removed or a broad phase attached or
+        # detached (never one another store had).
+        self.membership = next(_memberships)
 
     def attach(self, listener: Listener) -> None:
         """Send every later change to this broad phase (which rebuilds from the store). A
         store feeds one broad phase that keeps state; attaching another replaces it."""
         self.listener = listener
         self._buffer = listener.move_buffer
+        self.membership = next(_memberships)
 
     def detach(self) -> None:
         """Stop feeding the broad phase attached (its detector was put away): nothing is
         kept for it any more, and the next one to detect attaches itself afresh."""
         self.listener = None
         self._buffer = None
+        self.membership = next(_memberships)
 
     def new_id(self) -> int:
         body_id = self.next_id
@@ -65,7 +73,7 @@ class BodyStore:
         body.fence = NOWHERE  # until the broad phase gives it one
         bodies = self.by_kind[body.kind]
         self.size += 1
-        self.membership += 1
+        self.membership = next(_memberships)
         self.present |= 1 << body.kind
         if not bodies or bodies[-1].id < body.id:
             bodies.append(body)
@@ -132,7 +140,7 @@ class BodyStore:
         bodies = self.by_kind[body.kind]
         del bodies[bisect_left(bodies, body.id, key=_ID)]
         self.size -= 1
-        self.membership += 1
+        self.membership = next(_memberships)
         if not bodies:
             self.present &= ~(1 << body.kind)
         del self.by_id[body.id]
