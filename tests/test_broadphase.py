@@ -219,9 +219,9 @@ def test_the_grid_answers_from_its_last_look_only_while_no_cell_range_changes(ma
     """Candidates depend on cell ranges alone: a move inside a cell reuses the last answer
     (and the exact tests still see the new places); a move across a cell edge looks again."""
     store, grid, detector, probe, _ = _two_blocks((0, 0), (20, 20), make=make)
-    looks = []
-    query = grid._query
-    grid._query = lambda *args: looks.append(store.tick) or query(*args)
+    looks = []  # the ticks on which the broad phase was asked
+    ask = grid.pairs
+    grid.pairs = lambda *args: looks.append(store.tick) or ask(*args)
 
     def tick(x: int, y: int) -> tuple[int, list[tuple[int, int]]]:
         store.tick += 1

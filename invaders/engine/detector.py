@@ -272,35 +272,28 @@ class Detector:
             motion = rule.motion
             if motion is SWEPT:
                 # The quick test, predicates.swept_box_overlap inlined (the hot path): b's box
-                # swept by the pair's motion relative to a, against a's box at its start.
-                if a.moved_tick == tick:
-                    apx = a.px
-                    apy = a.py
-                else:
-                    apx = a.x
-                    apy = a.y
-                if b.moved_tick == tick:
-                    bpx = b.px
-                    bpy = b.py
-                else:
-                    bpx = b.x
-                    bpy = b.y
-                ox = bpx - apx
-                oy = bpy - apy
-                dx = (b.x - bpx) - (a.x - apx)
-                dy = (b.y - bpy) - (a.y - apy)
-                if dx < 0:
-                    if not (ox + dx < a.w and ox + b.w > 0):
+                # moved by the pair's motion relative to a, from offset (ox, oy) to (ex, ey),
+                # against a's box. The x axis first: most pairs part there.
+                a_moved = a.moved_tick == tick
+                b_moved = b.moved_tick == tick
+                apx = a.px if a_moved else a.x
+                ox = (b.px if b_moved else b.x) - apx
+                ex = b.x - a.x
+                if ex < ox:
+                    if not (ex < a.w and ox + b.w > 0):
                         continue
-                elif not (ox < a.w and ox + b.w + dx > 0):
+                elif not (ox < a.w and ex + b.w > 0):
                     continue
-                if dy < 0:
-                    if not (oy + dy < a.h and oy + b.h > 0):
+                apy = a.py if a_moved else a.y
+                oy = (b.py if b_moved else b.y) - apy
+                ey = b.y - a.y
+                if ey < oy:
+                    if not (ey < a.h and oy + b.h > 0):
                         continue
-                elif not (oy < a.h and oy + b.h + dy > 0):
+                elif not (oy < a.h and ey + b.h > 0):
                     continue
                 swept_tests += 1  # a rect hit too: counted in at the end
-                contact = self._walk(a, b, rule, tick, apx, apy, ox, oy, dx, dy)
+                contact = self._walk(a, b, rule, tick, apx, apy, ox, oy, ex - ox, ey - oy)
                 if contact is not None:
                     contacts.append(contact)
                 continue

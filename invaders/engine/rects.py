@@ -45,10 +45,8 @@ class CellRects:
         # Per kind, a box round all its rects: their union when made, grown as they move,
         # made again when a body comes or goes (None until needed).
         self.bounds: dict[int, pygame.Rect | None] = {}
-        self.version = 0  # moves whenever a rect does, or a body comes or goes
         self._ready: dict[int, tuple[Sequence[Group], list[Ready]]] = {}
         self._made: tuple[Sequence[Group], list[Ready]] = ((), [])  # the last made ready
-        self._last: tuple[int, Sequence[Group], tuple[Pair, ...]] | None = None  # last answer
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
         """Every body's rect afresh (on attaching)."""
@@ -61,7 +59,6 @@ class CellRects:
         self._made = ((), [])
         self.move_buffer.extend(body for bodies in scene.by_kind.values() for body in bodies)
         self._drain(scene.tick, kinds)
-        self.version += 1
 
     def _drain(self, tick: int, kinds: KindSets) -> None:
         """Apply the move buffer: each body's rect is the cells its box covers (over the
@@ -71,7 +68,6 @@ class CellRects:
         rect_of = self.rect_of
         bounds = self.bounds
         c = self.cell
-        changed = False
         buffer = self.move_buffer
         fenced = len(buffer) <= FEW_MOVES
         for body in buffer:
@@ -79,7 +75,6 @@ class CellRects:
             if not body.alive:
                 if rect is not None:
                     self._forget(body)
-                    changed = True
                 continue
             x0 = body.x
             y0 = body.y
@@ -88,34 +83,29 @@ class CellRects:
             if body.moved_tick == tick and body.kind in swept:
                 # Its box over the tick (body.tick_box), inlined: the hot path.
                 px = body.px
-                py = body.py
                 if px < x0:
                     x0 = px
-                elif px + body.w > x1:
+                elif px > x0:
                     x1 = px + body.w
+                py = body.py
                 if py < y0:
                     y0 = py
-                elif py + body.h > y1:
+                elif py > y0:
                     y1 = py + body.h
             # The cells' box (never inside out: a box of no width still has its left edge).
             fx0 = x0 // c * c
             fy0 = y0 // c * c
-            fx1 = ((x1 - 1) // c + 1) * c
-            fy1 = ((y1 - 1) // c + 1) * c
-            new = (fx0, fy0, fx1, fy1)
+            fx1 = -(-x1 // c) * c
+            fy1 = -(-y1 // c) * c
             if rect is None:
                 self._add(body, pygame.Rect(fx0, fy0, fx1 - fx0, fy1 - fy0))
-                changed = True
-            elif new != body.fence:
+            else:  # (reported: it left its fence, its old cells, or changed its size)
                 rect.update(fx0, fy0, fx1 - fx0, fy1 - fy0)
                 bound = bounds[body.kind]
                 if bound is not None:  # grown, not made again: a box round them all will do
                     bound.union_ip(rect)
-                changed = True
-            body.fence = new if fenced else NOWHERE
+            body.fence = (fx0, fy0, fx1, fy1) if fenced else NOWHERE
         buffer.clear()
-        if changed:
-            self.version += 1
 
     def _add(self, body: Body, rect: pygame.Rect) -> None:
         kind = body.kind
@@ -148,18 +138,6 @@ class CellRects:
         bound = self.bounds[kind] = rects[0].unionall(rects)
         return bound
 
-    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> tuple[Pair, ...]:
-        """The candidates, as the grid's: while no rect changed (the version) the same
-        groups get the last answer again."""
-        if self.move_buffer:
-            self._drain(scene.tick, kinds)
-        last = self._last
-        if last is not None and last[0] == self.version and last[1] is groups:
-            return last[2]
-        out = self._query(groups)
-        self._last = (self.version, groups, out)
-        return out
-
     def _prepare(self, groups: Sequence[Group]) -> list[Ready]:
         """Each group with the rects of its side b: the kind's own list when the side is the
         whole kind (a side is always some of a kind's bodies, in id order), else picked.
@@ -187,7 +165,10 @@ class CellRects:
             self._ready[id(groups)] = self._made = (groups, made)
         return made
 
-    def _query(self, groups: Sequence[Group]) -> list[Pair]:
+    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> list[Pair]:
+        """The candidates, as the grid's: each probe's rect against the other side's."""
+        if self.move_buffer:
+            self._drain(scene.tick, kinds)
         out: list[Pair] = []
         bounds = self.bounds
         made = self._made
