@@ -240,6 +240,24 @@ def test_the_grid_answers_from_its_last_look_only_while_no_cell_range_changes(ma
     assert looks == [0, 3, 4]
 
 
+@ON_CELLS
+def test_detectors_taking_turns_on_one_store_each_see_the_moves_made_for_the_other(make):
+    """A store feeds one broad phase: attaching another detector's takes the moves away
+    from the first, which must then start again from the store, not answer from its last
+    look."""
+    store, grid, first, probe, _ = _two_blocks((0, 0), (40, 0), make=make)
+    second = Detector(make(32), first.rules)
+    assert first.detect(store)[1].candidates == 0  # apart: in cells 0 and 1
+    assert second.detect(store)[1].candidates == 0  # the store now feeds the second's
+    store.tick += 1
+    store.move(probe, 38, 0)  # into the target's cell, overlapping it
+    contacts, stats = first.detect(store)
+    assert (stats.candidates, [(c.a_id, c.b_id) for c in contacts]) == (1, [(1, 2)])
+    store.tick += 1
+    store.move(probe, 0, 0)  # back, heard by the first's broad phase alone
+    assert second.detect(store)[1].candidates == 0
+
+
 def test_a_body_crossing_a_cell_edge_is_re_binned_once_and_keeps_the_cells_it_entered():
     """While few bodies move: entering the next cell re-bins (the box spans both); moving
     on inside the range it has keeps it, a superset the exact tests see through; leaving it

@@ -217,6 +217,7 @@ class Detector:
         # a change (its move buffer fills): the groups last asked, and the answer.
         self._asked: Sequence[Group] | None = None
         self._answer: Sequence[Pair] = ()
+        self._settled = 0  # the store's membership when it was given for groups with no zone
         # (bodies, pairs allowed, candidates) -> the counters of a tick whose candidates all
         # parted at the quick test
         self._quiet_by_count: dict[tuple[int, int, int], CollisionStats] = {}
@@ -232,27 +233,36 @@ class Detector:
         if observers:
             for observer in reversed(observers):
                 observer.before(store)
-        if store.membership != self._membership:  # (bodies came or went, or it is new to us)
-            self._replan(store)
-        broadphase = self.broadphase
-        groups = self._groups
-        allowed = self._allowed
-        zoned = self._zoned
-        if zoned:
-            heard = bool(broadphase.move_buffer)  # first: finding a zone's bodies may drain it
-            groups, in_zones = self._with_zones(store, groups, zoned)
-            allowed += in_zones
+        if store.membership == self._settled and not self.broadphase.move_buffer:
+            # The usual tick: no body came, went or was heard since the broad phase last
+            # answered the same groups, with no zone to filter: the same candidates.
+            pairs = self._answer
+            allowed = self._allowed
+            zoned = ()
         else:
-            heard = broadphase.move_buffer  # (its truth is all that is read)
-        if groups is self._asked and not heard:
-            pairs = self._answer  # nothing heard since the same groups were asked
-        elif groups:
-            pairs = broadphase.pairs(store, groups, self.kinds)
-            if broadphase.move_buffer is not None:  # it keeps state: the answer holds
-                self._asked = groups
-                self._answer = pairs
-        else:
-            pairs = ()
+            if store.membership != self._membership:  # (bodies came or went, or new to us)
+                self._replan(store)
+            broadphase = self.broadphase
+            groups = self._groups
+            allowed = self._allowed
+            zoned = self._zoned
+            if zoned:
+                heard = bool(broadphase.move_buffer)  # first: finding a zone's bodies may drain it
+                groups, in_zones = self._with_zones(store, groups, zoned)
+                allowed += in_zones
+            else:
+                heard = broadphase.move_buffer  # (its truth is all that is read)
+            if groups is self._asked and not heard:
+                pairs = self._answer  # nothing heard since the same groups were asked
+            elif groups:
+                pairs = broadphase.pairs(store, groups, self.kinds)
+                if broadphase.move_buffer is not None:  # it keeps state: the answer holds
+                    self._asked = groups
+                    self._answer = pairs
+                    if not zoned:
+                        self._settled = store.membership
+            else:
+                pairs = ()
         if not pairs:  # the usual tick at game scale: the same counters as last time
             contacts: list[Contact] = []
             stats = self._quiet if not zoned else self._quiet_counters(store.size, allowed)
