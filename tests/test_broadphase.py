@@ -245,7 +245,7 @@ def test_detectors_taking_turns_on_one_store_each_see_the_moves_made_for_the_oth
     """A store feeds one broad phase: attaching another detector's takes the moves away
     from the first, which must then start again from the store, not answer from its last
     look."""
-    store, grid, first, probe, _ = _two_blocks((0, 0), (40, 0), make=make)
+    store, _, first, probe, _ = _two_blocks((0, 0), (40, 0), make=make)
     second = Detector(make(32), first.rules)
     assert first.detect(store)[1].candidates == 0  # apart: in cells 0 and 1
     assert second.detect(store)[1].candidates == 0  # the store now feeds the second's
