@@ -30,7 +30,7 @@ from invaders.engine.broadphase import (
 from invaders.engine.grid import DEFAULT_CELL, Grid
 from invaders.engine.rects import CellRects
 from invaders.engine.rules import Motion, PairRule, RuleTable, Zone
-from invaders.engine.stats import END, CollisionStats, Contact, contact_time, impact_time
+from invaders.engine.stats import CollisionStats, Contact, contact_time, impact_time
 from invaders.engine.store import BodyStore
 
 QuickTest = Callable[[tuple[int, int, int, int], tuple[int, int, int, int]], bool]
@@ -321,15 +321,15 @@ class Detector:
             else:
                 point = (max(a.x, b.x), max(a.y, b.y))
             if motion is LANDING:
-                contacts.append(_new(Contact, (tick, END, a.id, b.id, a.kind, b.kind, a.x,
-                                               a.y, b.x, b.y, *point, rule)))
+                contacts.append(_new(Contact, (tick, impact_time(1, 1), a.id, b.id, a.kind,
+                                               b.kind, a.x, a.y, b.x, b.y, *point, rule)))
                 continue
             # Discrete: found where they landed; its time is when they first touched.
             apx, apy = a.start_of_tick(tick)
             bpx, bpy = b.start_of_tick(tick)
             walked = self._walk(a, b, rule, tick, apx, apy, bpx - apx, bpy - apy,
                                 (b.x - bpx) - (a.x - apx), (b.y - bpy) - (a.y - apy))
-            time = walked.time if walked is not None else END
+            time = walked.time if walked is not None else impact_time(1, 1)
             contacts.append(_new(Contact, (tick, time, a.id, b.id, a.kind, b.kind, a.x, a.y,
                                            b.x, b.y, *point, rule)))
         if contacts or rect_hits or swept_tests:

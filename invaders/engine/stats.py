@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
-from fractions import Fraction
 from functools import lru_cache
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
+
+if TYPE_CHECKING:  # made only when a contact is: importing fractions (and with it decimal)
+    from fractions import Fraction  # is a tenth of the program's own start-up
 
 
 class CollisionStats(NamedTuple):
@@ -28,15 +30,14 @@ class CollisionStats(NamedTuple):
 
 STAT_FIELDS: tuple[str, ...] = CollisionStats._fields
 
-START = Fraction(0)  # the tick's first instant
-END = Fraction(1)  # its last: where things land
-
-
 @lru_cache(maxsize=4096)  # a Fraction is immutable; making one reduces it, which costs
 def impact_time(step: int, steps: int) -> Fraction:
     """The time of substep `step` of `steps` within the tick, in the one time base of every
-    contact: 0 is the tick's first instant, 1 its last."""
-    return Fraction(step, steps) if steps else START
+    contact: 0 is the tick's first instant (`impact_time(0, 0)`), 1 its last, where things
+    land (`impact_time(1, 1)`)."""
+    from fractions import Fraction
+
+    return Fraction(step, steps) if steps else Fraction(0)
 
 
 class Contact(NamedTuple):
