@@ -374,7 +374,8 @@ class Detector:
         for _, side_a, side_b in self._groups:
             allowed += len(side_a) * len(side_b)
         self._allowed = allowed
-        self._quiet = self._quiet_counters(store.size, allowed)
+        n = store.size  # a body came or went: nearly always counters not seen before
+        self._quiet = _new(CollisionStats, (n, n * (n - 1) // 2, allowed, 0, 0, 0, 0, 0, 0, 0))
 
     def _quiet_counters(self, n: int, allowed: int, candidates: int = 0) -> CollisionStats:
         """The counters of a tick whose candidates (if any) all parted at the quick test
