@@ -237,6 +237,8 @@ class Detector:
             # The usual tick: no body came, went or was heard since the broad phase last
             # answered the same groups, with no zone to filter: the same candidates.
             pairs = self._answer
+            if not pairs and not observers:  # (most ticks at game scale)
+                return [], self._quiet
             allowed = self._allowed
             zoned = ()
         else:
@@ -272,7 +274,6 @@ class Detector:
             return contacts, stats
 
         tick = store.tick
-        n = store.size
         quick = self.quick
         contacts = []
         rect_hits = mask_tests = mask_hits = swept_tests = 0  # every pair gets a rect test
@@ -335,13 +336,14 @@ class Detector:
         if contacts or rect_hits or swept_tests:
             if len(contacts) > 1:  # by time; ties stay in the pairs' (low id, high id) order
                 contacts.sort(key=contact_time)
+            n = store.size
             stats = _new(CollisionStats, (n, n * (n - 1) // 2, allowed, len(pairs), len(pairs),
                                           rect_hits + swept_tests, mask_tests, mask_hits,
                                           swept_tests, len(contacts)))
         elif pairs is self._parted and allowed == self._parted_stats.allowed_pairs:
             stats = self._parted_stats  # the same pairs parted again, as on most such ticks
         else:  # every pair parted at the quick test, as on most ticks with pairs
-            stats = self._parted_stats = self._quiet_counters(n, allowed, len(pairs))
+            stats = self._parted_stats = self._quiet_counters(store.size, allowed, len(pairs))
             self._parted = pairs
         if observers:
             for observer in observers:
