@@ -47,6 +47,16 @@ def check_ranges(config: Any, name: str) -> None:
                 raise ConfigError(f"{where} = {item!r} is out of range {low}..{high}")
 
 
+class Section:
+    """What the config's dataclasses share: one repr written here, as a dataclass's own would
+    read, instead of one generated for each (generating them is a third of this module's
+    import, which every run pays at start-up)."""
+
+    def __repr__(self) -> str:
+        values = ", ".join(f"{f.name}={getattr(self, f.name)!r}" for f in fields(self))
+        return f"{type(self).__name__}({values})"
+
+
 def _order(config: Any, name: str, *pairs: tuple[str, str]) -> None:
     for low, high in pairs:
         if getattr(config, low) > getattr(config, high):
@@ -54,8 +64,8 @@ def _order(config: Any, name: str, *pairs: tuple[str, str]) -> None:
                               f"{name}.{high} = {getattr(config, high)}")
 
 
-@dataclass(frozen=True)
-class Geometry:
+@dataclass(frozen=True, repr=False)
+class Geometry(Section):
     """Where things are on the 224x256 screen (reference section 2)."""
 
     def __post_init__(self) -> None:
@@ -98,8 +108,8 @@ class Geometry:
     saucer_exit_right: int = within(193, 0, 224)  # ... or reaches this
 
 
-@dataclass(frozen=True)
-class Timing:
+@dataclass(frozen=True, repr=False)
+class Timing(Section):
     """Durations in ticks (1 tick = 1 frame of the original, reference sections 5-12)."""
 
     def __post_init__(self) -> None:
@@ -122,8 +132,8 @@ class Timing:
     game_over_pause: int = within(120, 0, 100000)  # before START is accepted after a game ends
 
 
-@dataclass(frozen=True)
-class Speeds:
+@dataclass(frozen=True, repr=False)
+class Speeds(Section):
     """Pixels per move (reference sections 4-8)."""
 
     def __post_init__(self) -> None:
@@ -141,8 +151,8 @@ class Speeds:
     saucer: int = within(2, 1, 64)
 
 
-@dataclass(frozen=True)
-class Rules:
+@dataclass(frozen=True, repr=False)
+class Rules(Section):
     """Rule switches and tables (reference sections 4, 6, 8, 11)."""
 
     def __post_init__(self) -> None:
@@ -171,8 +181,8 @@ class Rules:
     plunger_min_aliens: int = within(2, 0, 55)  # disabled once only one alien remains
 
 
-@dataclass(frozen=True)
-class GameConfig:
+@dataclass(frozen=True, repr=False)
+class GameConfig(Section):
     """Everything the simulation needs besides the seed; recorded in replays."""
 
     geometry: Geometry = field(default_factory=Geometry)
