@@ -183,3 +183,12 @@ def test_the_readme_lists_every_config_range_as_the_config_declares_it():
                                                           "rules")
                                         for _ in dataclasses.fields(getattr(GameConfig(),
                                                                             section))) + 1
+
+
+def test_a_config_reads_back_from_its_repr():
+    """The sections' shared repr names every field with its value, nested sections too."""
+    config = GameConfig(geometry=dataclasses.replace(G, rows=4), tick_hz=50)
+    names = {cls.__name__: cls for cls in (GameConfig, Geometry, Rules, Speeds)}
+    names["Timing"] = type(config.timing)
+    assert eval(repr(config), names) == config
+    assert repr(G).startswith("Geometry(saucer_top=")
