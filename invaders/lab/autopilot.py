@@ -9,6 +9,8 @@ meetings, bombs on shields and on the cannon, deaths, respawns, waves and game o
 from __future__ import annotations
 
 import random
+from bisect import bisect_left
+from operator import attrgetter, lt
 
 from invaders.engine.predicates import solid_mask
 from invaders.game.actions import Action
@@ -19,6 +21,7 @@ DODGE_LOOKAHEAD_TICKS = 45  # bombs further than this from the cannon's rows are
 CANNON_LIT = (2, 14)  # first and last lit column of the cannon's 16-px box
 DODGE_MARGIN = 2  # columns of room kept between a bomb and the cannon
 _NONE_SHADED: frozenset[int] = frozenset()
+_MOVED_TICK = attrgetter("moved_tick")
 SHOT_TICKS_TO_LANE = 42  # ticks the shot needs from the barrel to the saucer lane
 INF = float("inf")
 MOVES_IN_ORDER = {-1: (-1, 0, 1), 0: (0, -1, 1), 1: (1, 0, -1)}  # the wish, stay, the rest
@@ -66,8 +69,9 @@ class Autopilot:
         self._target: int | None = None
         self._has_targets = False
         self._columns = ShooterColumns()
-        # The lowest row's left edges, and the targets, shaded edges and tick it was made for.
-        self._row: tuple = (None, None, None, 0)
+        # The lowest row's left edges, the targets, shaded edges and tick it was made for,
+        # and whether it runs left to right.
+        self._row: tuple = (None, None, None, 0, False)
         self._speeds = None  # the bombs' speeds last seen, and per tick: (fast from, fast, slow)
         self._per_tick = (0, 0.0, 0.0)
 
@@ -193,19 +197,20 @@ class Autopilot:
         shaded = _NONE_SHADED if self._through_shields else self._shields.edges(world)
         # The lowest row's left edges, kept while the same targets stand where they stood
         # (the rack moves one alien a tick: most ticks none of the lowest).
-        row, of_targets, of_shaded, made = self._row
-        if of_targets is not targets or of_shaded is not shaded:
-            row = None
-        else:
-            for alien in targets:
-                if alien.moved_tick >= made:
-                    row = None
-                    break
-        if row is None:
+        row, of_targets, of_shaded, made, ordered = self._row
+        if (of_targets is not targets or of_shaded is not shaded
+                or max(map(_MOVED_TICK, targets)) >= made):
             row = _lowest_row(targets, shaded)
-            self._row = (row, targets, shaded, world.store.tick)
-        # The first of them nearest the cannon.
+            ordered = all(map(lt, row, row[1:]))
+            self._row = (row, targets, shaded, world.store.tick, ordered)
+        # The first of them nearest the cannon: found by halving when the row runs left to
+        # right (as columns do, 16 px apart; of two as near, the left is the first).
         cannon_x = world.cannon.x
+        if ordered:
+            i = bisect_left(row, cannon_x)
+            if i == len(row) or (i and cannon_x - row[i - 1] <= row[i] - cannon_x):
+                i -= 1
+            return row[i] + 8
         best_x = row[0]
         best_dist = best_x - cannon_x if best_x > cannon_x else cannon_x - best_x
         for x in row:
