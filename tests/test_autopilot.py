@@ -21,34 +21,30 @@ def test_the_target_is_the_first_alien_in_the_clear_then_lowest_then_nearest(pla
                                                                              centre):
     """Least by (under a shield, higher up, distance from the cannon's centre), the first
     in column order on a tie: the rule written as a sort key."""
-    targets = [SimpleNamespace(x=x, y=y, moved_tick=-1) for x, y in places]
+    targets = [SimpleNamespace(x=x, y=y) for x, y in places]
     pilot = Autopilot(0)
     pilot._columns = SimpleNamespace(shooters=lambda world, which: targets)
     pilot._shields = SimpleNamespace(edges=lambda world: frozenset(x - 8 for x in lit))
     world = SimpleNamespace(saucer=SimpleNamespace(saucer=None),
-                            cannon=SimpleNamespace(x=centre - 8), store=SimpleNamespace(tick=0))
+                            cannon=SimpleNamespace(x=centre - 8))
     first = min(range(len(targets)), key=lambda i: (
         targets[i].x + 8 in lit, -targets[i].y, abs(targets[i].x + 8 - centre), i))
     assert pilot._find_target(world) == targets[first].x + 8
 
 
-def test_the_target_follows_an_alien_of_the_lowest_row_that_moved():
-    """The lowest row is kept between ticks only while none of the targets moved: one that
-    drops below the rest becomes the target; the cannon's moves pick within the row."""
-    targets = [SimpleNamespace(x=16 * i, y=50, moved_tick=-1) for i in range(5)]
+def test_the_target_follows_the_cannon_and_an_alien_that_dropped():
+    """Worked out each tick: an alien that drops below the rest becomes the target; the
+    cannon's moves pick within the row, the first of two as near."""
+    targets = [SimpleNamespace(x=16 * i, y=50) for i in range(5)]
     pilot = Autopilot(0)
     pilot._columns = SimpleNamespace(shooters=lambda world, which: targets)
-    shaded = frozenset({200})  # kept as the shields' own are, until they change
-    pilot._shields = SimpleNamespace(edges=lambda world: shaded)
+    pilot._shields = SimpleNamespace(edges=lambda world: frozenset({200}))
     cannon = SimpleNamespace(x=0)
-    world = SimpleNamespace(saucer=SimpleNamespace(saucer=None), cannon=cannon,
-                            store=SimpleNamespace(tick=10))
+    world = SimpleNamespace(saucer=SimpleNamespace(saucer=None), cannon=cannon)
     assert pilot._find_target(world) == 8  # nearest the cannon at the left
     cannon.x = 40
-    world.store.tick = 11
     assert pilot._find_target(world) == 40  # x 32 and 48 as near: the first
-    targets[3].y, targets[3].moved_tick = 58, 11  # moved on tick 11, after the last look
-    world.store.tick = 12
+    targets[3].y = 58  # dropped
     assert pilot._find_target(world) == 56  # now the lowest
 
 

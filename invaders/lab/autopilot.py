@@ -9,8 +9,6 @@ meetings, bombs on shields and on the cannon, deaths, respawns, waves and game o
 from __future__ import annotations
 
 import random
-from bisect import bisect_left
-from operator import attrgetter, lt
 
 from invaders.engine.predicates import solid_mask
 from invaders.game.actions import Action
@@ -20,8 +18,6 @@ from invaders.lab.styles import STYLES
 DODGE_LOOKAHEAD_TICKS = 45  # bombs further than this from the cannon's rows are ignored
 CANNON_LIT = (2, 14)  # first and last lit column of the cannon's 16-px box
 DODGE_MARGIN = 2  # columns of room kept between a bomb and the cannon
-_NONE_SHADED: frozenset[int] = frozenset()
-_MOVED_TICK = attrgetter("moved_tick")
 SHOT_TICKS_TO_LANE = 42  # ticks the shot needs from the barrel to the saucer lane
 INF = float("inf")
 MOVES_IN_ORDER = {-1: (-1, 0, 1), 0: (0, -1, 1), 1: (1, 0, -1)}  # the wish, stay, the rest
@@ -69,9 +65,6 @@ class Autopilot:
         self._target: int | None = None
         self._has_targets = False
         self._columns = ShooterColumns()
-        # The lowest row's left edges, the targets, shaded edges and tick it was made for,
-        # and whether it runs left to right.
-        self._row: tuple = (None, None, None, 0, False)
         self._speeds = None  # the bombs' speeds last seen, and per tick: (fast from, fast, slow)
         self._per_tick = (0, 0.0, 0.0)
 
@@ -192,32 +185,28 @@ class Autopilot:
             lead = ship.dx * SHOT_TICKS_TO_LANE // 3
             return ship.x + 12 + lead
         # The first alien, in column order, that is least (not under a shield, lowest, then
-        # nearest the cannon): those in the clear first, and only if none is, all of them.
+        # nearest the cannon): those in the clear first, and only if none is, all of them
+        # (the comparison written out, as tuples cost more).
         # Alien and cannon alike by the left edge of their 16-px boxes (centres less 8).
-        shaded = _NONE_SHADED if self._through_shields else self._shields.edges(world)
-        # The lowest row's left edges, kept while the same targets stand where they stood
-        # (the rack moves one alien a tick: most ticks none of the lowest).
-        row, of_targets, of_shaded, made, ordered = self._row
-        if (of_targets is not targets or of_shaded is not shaded
-                or max(map(_MOVED_TICK, targets)) >= made):
-            row = _lowest_row(targets, shaded)
-            ordered = all(map(lt, row, row[1:]))
-            self._row = (row, targets, shaded, world.store.tick, ordered)
-        # The first of them nearest the cannon: found by halving when the row runs left to
-        # right (as columns do, 16 px apart; of two as near, the left is the first).
+        shaded = frozenset() if self._through_shields else self._shields.edges(world)
         cannon_x = world.cannon.x
-        if ordered:
-            i = bisect_left(row, cannon_x)
-            if i == len(row) or (i and cannon_x - row[i - 1] <= row[i] - cannon_x):
-                i -= 1
-            return row[i] + 8
-        best_x = row[0]
-        best_dist = best_x - cannon_x if best_x > cannon_x else cannon_x - best_x
-        for x in row:
-            dist = x - cannon_x if x > cannon_x else cannon_x - x
-            if dist < best_dist:
-                best_x, best_dist = x, dist
-        return best_x + 8
+        for anywhere in (False, True):
+            best_x = None
+            best_y = -1  # the lowest has the largest y (its picture's top is y + 8)
+            best_dist = 0
+            for alien in targets:
+                x = alien.x
+                if x in shaded and not anywhere:
+                    continue
+                y = alien.y
+                if y < best_y:
+                    continue
+                dist = x - cannon_x if x > cannon_x else cannon_x - x
+                if y > best_y or dist < best_dist:
+                    best_x, best_y, best_dist = x, y, dist
+            if best_x is not None:
+                return best_x + 8
+        return None
 
     def _want_fire(self, world: World, centre: int, target: int | None) -> bool:
         """Whether to press fire, the shot being free and not held down last tick (`target`:
@@ -311,27 +300,6 @@ class ShieldColumns:
                             if bunker.mask.overlap(bar, (cx, 0)) is not None)
             seen = self._seen[bunker.id] = (count, lit)
         return seen[1]
-
-
-def _lowest_row(targets: list, shaded: frozenset[int]) -> list[int]:
-    """The left edges, in column order, of the lowest of the targets not under a shield, or
-    if every one is, of the lowest of them all (an alien's y grows downwards)."""
-    for anywhere in (False, True):
-        best_y = -1
-        row: list[int] = []
-        for alien in targets:
-            x = alien.x
-            if x in shaded and not anywhere:
-                continue
-            y = alien.y
-            if y > best_y:
-                best_y = y
-                row = [x]
-            elif y == best_y:
-                row.append(x)
-        if row:
-            return row
-    return row
 
 
 def _hiding_place(world: World) -> int:
