@@ -185,10 +185,15 @@ def test_the_readme_lists_every_config_range_as_the_config_declares_it():
                                                                             section))) + 1
 
 
-def test_a_config_reads_back_from_its_repr():
-    """The sections' shared repr names every field with its value, nested sections too."""
+def test_a_config_reads_back_from_its_repr_and_compares_and_hashes_by_its_values():
+    """The sections' shared repr names every field with its value, nested sections too;
+    equal values make equal configs with equal hashes, one changed field an unequal one."""
     config = GameConfig(geometry=dataclasses.replace(G, rows=4), tick_hz=50)
     names = {cls.__name__: cls for cls in (GameConfig, Geometry, Rules, Speeds)}
     names["Timing"] = type(config.timing)
-    assert eval(repr(config), names) == config
+    again = eval(repr(config), names)
+    assert again == config and hash(again) == hash(config) and again is not config
     assert repr(G).startswith("Geometry(saucer_top=")
+    assert config != GameConfig(tick_hz=50)  # the nested geometry differs
+    assert config != dataclasses.replace(config, tick_hz=60)
+    assert {config: "kept"}[again] == "kept"

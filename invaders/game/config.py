@@ -48,13 +48,25 @@ def check_ranges(config: Any, name: str) -> None:
 
 
 class Section:
-    """What the config's dataclasses share: one repr written here, as a dataclass's own would
-    read, instead of one generated for each (generating them is a third of this module's
-    import, which every run pays at start-up)."""
+    """What the config's dataclasses share: repr, equality and hash written once here, as a
+    dataclass's own would work, instead of generated for each (generating them is half of
+    this module's import, which every run pays at start-up)."""
 
     def __repr__(self) -> str:
         values = ", ".join(f"{f.name}={getattr(self, f.name)!r}" for f in fields(self))
         return f"{type(self).__name__}({values})"
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        return _values(self) == _values(other)
+
+    def __hash__(self) -> int:
+        return hash(_values(self))
+
+
+def _values(section: Any) -> tuple:
+    return tuple(getattr(section, f.name) for f in fields(section))
 
 
 def _order(config: Any, name: str, *pairs: tuple[str, str]) -> None:
@@ -64,7 +76,7 @@ def _order(config: Any, name: str, *pairs: tuple[str, str]) -> None:
                               f"{name}.{high} = {getattr(config, high)}")
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Geometry(Section):
     """Where things are on the 224x256 screen (reference section 2)."""
 
@@ -108,7 +120,7 @@ class Geometry(Section):
     saucer_exit_right: int = within(193, 0, 224)  # ... or reaches this
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Timing(Section):
     """Durations in ticks (1 tick = 1 frame of the original, reference sections 5-12)."""
 
@@ -132,7 +144,7 @@ class Timing(Section):
     game_over_pause: int = within(120, 0, 100000)  # before START is accepted after a game ends
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Speeds(Section):
     """Pixels per move (reference sections 4-8)."""
 
@@ -151,7 +163,7 @@ class Speeds(Section):
     saucer: int = within(2, 1, 64)
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Rules(Section):
     """Rule switches and tables (reference sections 4, 6, 8, 11)."""
 
@@ -181,7 +193,7 @@ class Rules(Section):
     plunger_min_aliens: int = within(2, 0, 55)  # disabled once only one alien remains
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class GameConfig(Section):
     """Everything the simulation needs besides the seed; recorded in replays."""
 
