@@ -82,13 +82,11 @@ def test_the_pareto_front_keeps_only_points_nothing_beats():
     assert [p[2] for p in charts.pareto(points)] == ["a", "b", "d"]
 
 
-def test_study_quick_from_any_folder_studies_the_storms(tmp_path, capsys, monkeypatch):
-    monkeypatch.chdir(tmp_path)  # no ./replays here, as after an install
-    assert main(["study", "--quick", "--jobs", "2", "--out", "nested/study"]) == 0
-    printed = capsys.readouterr().out
+def test_study_quick_from_any_folder_studies_the_storms(quick_study):
+    code, printed, out = quick_study  # run where there is no ./replays, as after an install
+    assert code == 0
     assert printed.startswith("study: no ./replays folder here: studying the storms only")
     assert "default (rect/mask/auto/every1)" in printed and "0.0000 errors" in printed
-    out = tmp_path / "nested" / "study"
     with (out / "study.csv").open() as handle:
         rows = list(csv.DictReader(handle))
     assert len(rows) > 50 and all(row["scene"].startswith("storm") for row in rows)

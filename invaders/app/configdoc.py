@@ -1,5 +1,5 @@
 """The config's fields, defaults and valid ranges as a Markdown table, made from the config
-itself (the README carries it, and a test keeps the two the same)."""
+itself (docs/replays.md carries it, and a test keeps the two the same)."""
 
 from __future__ import annotations
 
