@@ -14,11 +14,11 @@ from invaders.game.config import DEFAULT_CONFIG
 from invaders.game.entities import CannonState
 from invaders.game.kinds import Kind
 from invaders.game.rules import make_rules
-from invaders.game.tuning import kind_masks
+from invaders.game.tuning import kind_moves, proof_masks
 from invaders.game.world import TickReport, World
 
-# Every picture mask a kind can show (shields, which erode, aside).
-SHARED_MASKS = kind_masks()
+# Every picture mask a kind can show (shields, which erode, aside; the edges as boxes).
+SHARED_MASKS = proof_masks(kind_moves())
 GAME_RULES = make_rules(DEFAULT_CONFIG)
 
 

@@ -12,7 +12,7 @@ from invaders.engine.proofs import discrete_miss
 from invaders.engine.rules import Motion
 from invaders.game.kinds import Kind
 from invaders.game.rules import NEVER
-from invaders.game.tuning import cheapest_rules, kind_masks, kind_moves
+from invaders.game.tuning import cheapest_rules, kind_moves, proof_masks
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
 from tests.helpers import GAME_RULES
@@ -40,7 +40,7 @@ def test_each_entry_uses_the_cheapest_motion_model_that_is_exact(rule):
     if rule.motion is Motion.LANDING:  # the original tests these where they are drawn
         assert {rule.a, rule.b} in ({Kind.ALIEN, Kind.BUNKER}, {Kind.BOMB, Kind.BUNKER})
         return
-    missed = discrete_miss(rule, kind_moves(), kind_masks(), GAME_RULES.eroding)
+    missed = discrete_miss(rule, kind_moves(), proof_masks(kind_moves()), GAME_RULES.eroding)
     if rule.motion is Motion.DISCRETE:
         assert missed is None, f"discrete misses {missed}: this entry must be swept"
     else:

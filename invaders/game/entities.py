@@ -8,7 +8,9 @@ from enum import Enum, IntEnum
 import pygame
 
 from invaders.engine.body import Body
+from invaders.engine.predicates import solid_mask
 from invaders.game import art
+from invaders.game.config import SCREEN_W, GameConfig
 from invaders.game.kinds import Kind
 
 
@@ -82,6 +84,8 @@ BOMB_PICTURES = {
     BombType.SQUIGGLY: art.BOMB_SQUIGGLY,
 }
 BOMB_MASKS = {t: tuple(art.mask_of(p) for p in pics) for t, pics in BOMB_PICTURES.items()}
+# Every bomb picture's height (one value: unpacking fails at import if they ever differ).
+(BOMB_H,) = {m.get_size()[1] for masks in BOMB_MASKS.values() for m in masks}
 
 
 class Bomb(Body):
@@ -112,6 +116,33 @@ class Saucer(Body):
     def __init__(self, body_id: int, x: int, y: int, dx: int) -> None:
         super().__init__(body_id, Kind.SAUCER, x, y, art.mask_of(art.SAUCER))
         self.dx = dx
+
+
+# How far an edge reaches past its line: farther than any projectile moves between two
+# looks (128 px a tick, the config's most, at 16 times the speed over 8 ticks), so one that
+# crossed the line is inside the edge at the next look, however it was sampled.
+EDGE_DEPTH = 128 * 16 * 8
+
+
+class Edge(Body):
+    """A playfield edge as a static box: its line, and EDGE_DEPTH px beyond it. Edges take
+    the ids below every thing's (things count from 1), so at an equal time of contact the
+    edge comes first, as the original tests the top and the ground before it draws."""
+
+    __slots__ = ()
+
+    def __init__(self, body_id: int, kind: Kind, y: int, h: int) -> None:
+        super().__init__(body_id, kind, 0, y, solid_mask(SCREEN_W, h))
+
+
+def edges(config: GameConfig) -> tuple[Edge, Edge]:
+    """The top limit (the shot bursts once its top row reaches `shot_top_limit`) and the
+    ground (a bomb bursts once its top row reaches `bomb_ground_top`, that is once its
+    bottom row reaches that row plus its height less one)."""
+    g = config.geometry
+    top = Edge(-2, Kind.TOP, g.shot_top_limit + 1 - EDGE_DEPTH, EDGE_DEPTH)
+    ground = Edge(-1, Kind.GROUND, g.bomb_ground_top + BOMB_H - 1, EDGE_DEPTH)
+    return top, ground
 
 
 class Blast(Enum):

@@ -14,3 +14,10 @@ class Kind(IntEnum):
     ALIEN = 4
     BUNKER = 5
     SAUCER = 6
+    TOP = 7  # the top limit, where the shot bursts: a playfield edge
+    GROUND = 8  # the ground line, where bombs burst: a playfield edge
+
+
+# The playfield's edges: static bodies, made once with the world, never counted as things.
+EDGES = frozenset({Kind.TOP, Kind.GROUND})
+THINGS = tuple(kind for kind in Kind if kind not in EDGES)

@@ -34,7 +34,7 @@ from invaders import __version__
 from invaders.engine.detector import DEFAULT_BROADPHASE
 from invaders.game.actions import ALL_ACTIONS
 from invaders.game.config import ConfigError, GameConfig
-from invaders.game.kinds import Kind
+from invaders.game.kinds import THINGS
 from invaders.game.statehash import GROUPS, combine
 from invaders.game.world import World
 
@@ -51,7 +51,7 @@ MAX_SWITCH_FIELDS = 16
 Switch = tuple[int, dict[str, Any]]  # a lab choice, and the tick before whose step it began
 HASH = re.compile(r"^[0-9a-f]{32}$")
 GROUP_HASH = re.compile(r"^[0-9a-f]{16}$")
-COUNT_NAMES = frozenset(kind.name.lower() for kind in Kind)
+COUNT_NAMES = frozenset(kind.name.lower() for kind in THINGS)
 
 
 class ReplayError(ValueError):

@@ -2,9 +2,10 @@
 
 A pair of kinds with no entry is never tested (NEVER says why, and a test holds every pair
 to one or the other). Each entry names its shapes, its motion model (proved minimal in
-tuning.py), its zone, the sides a contact spends and its response. Responses only mark and
-record (through the world's outcome methods); they run after detection, earliest contact
-first.
+tuning.py), its zone, the sides a contact spends and its response. Responses change the
+world only through its outcome methods (removals, bursts, erosion, score, lives); they run
+after detection, earliest contact first. The playfield's edges are bodies too (the top
+limit, the ground), so reaching one is a contact in the same order as any other.
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ class Outcomes(Protocol):
     def remove_bomb(self, bomb: Any) -> None: ...
     def kill_cannon(self) -> None: ...
     def hit_saucer(self) -> None: ...
+    def bomb_hits_ground(self, bomb: Any) -> None: ...
 
 
 def _pos(contact: Contact, body_id: int) -> tuple[int, int]:
@@ -78,6 +80,15 @@ def bomb_bunker(world: Outcomes, bomb: Any, bunker: Any, contact: Contact) -> No
     world.events.append(Event.BUNKER_HIT)
 
 
+def shot_top(world: Outcomes, shot: Any, top: Any, contact: Contact) -> None:
+    x, y = _pos(contact, shot.id)  # where it landed: at speed, past the line
+    world.burst_shot(x, max(y, top.y + top.h - 1))  # bursts with its top on the line
+
+
+def bomb_ground(world: Outcomes, bomb: Any, ground: Any, contact: Contact) -> None:
+    world.bomb_hits_ground(bomb)
+
+
 def alien_bunker(world: Outcomes, bunker: Any, alien: Any, contact: Contact) -> None:
     world.erode(solid_mask(alien.w, alien.h), *_pos(contact, alien.id))
 
@@ -109,6 +120,12 @@ def make_rules(config: GameConfig) -> RuleTable:
         PairRule(Kind.BUNKER, Kind.ALIEN, M, B, L, None, False, False, alien_bunker,
                  "low aliens clear their 16x16 draw footprint where it lands, chewing the "
                  "shields"),
+        PairRule(Kind.SHOT, Kind.TOP, B, B, D, None, True, False, shot_top,
+                 "the shot bursts at the top limit (14D8), in time order with what it meets "
+                 "on the way; the edge is deeper than any move, so discrete is exact"),
+        PairRule(Kind.BOMB, Kind.GROUND, B, B, D, None, True, False, bomb_ground,
+                 "a bomb bursts on the ground (05F3), unless it met the cannon first; the "
+                 "edge is deeper than any move, so discrete is exact"),
     ), eroding=frozenset({Kind.BUNKER}))
 
 
@@ -128,4 +145,8 @@ NEVER: dict[frozenset[Kind], str] = {
     frozenset({Kind.SAUCER}): "one saucer at a time",
     frozenset({Kind.SHOT}): "one player shot at a time",
     frozenset({Kind.CANNON}): "one cannon",
+    **{frozenset({Kind.TOP, kind}): "only the shot reaches the top limit (the saucer's lane "
+       "and the rack lie below it)" for kind in Kind if kind is not Kind.SHOT},
+    **{frozenset({Kind.GROUND, kind}): "only bombs reach the ground (the cannon runs above "
+       "it)" for kind in Kind if kind not in (Kind.BOMB, Kind.TOP)},
 }

@@ -1,10 +1,12 @@
 """World: every piece of game state, and step(actions) -> TickReport.
 
 One tick, in order: move (input, cannon, shot, one alien, the bomb type whose turn it is, the
-saucer), detect (reads only), respond (each rules entry's response, earliest contact first;
-the only writer of collision outcomes), sweep. Bodies live in the engine's store, which
-tells the broad phase what changed. The world owns the only random generator and never
-reads a clock or touches the display.
+saucer; nothing is removed here, not even at the playfield's edges), detect (the engine's
+detector: contacts with their times, and the counters), respond (each rules entry's
+response, earliest contact first: the only writer of collision outcomes, reaching an edge
+included), then the wave's end if the rack is empty. Bodies live in the engine's store,
+which tells the broad phase what changed. The world owns the only random generator and
+never reads a clock or touches the display.
 """
 
 from __future__ import annotations
@@ -34,9 +36,10 @@ from invaders.game.entities import (
     CannonState,
     Explosion,
     Shot,
+    edges,
 )
 from invaders.game.events import Event
-from invaders.game.kinds import Kind
+from invaders.game.kinds import THINGS, Kind
 from invaders.game.rack import Rack
 from invaders.game.rules import make_rules
 
@@ -92,6 +95,8 @@ class World:
         self.detector = detector if detector is not None else Detector(
             make_broadphase(broadphase, cell), self.rules)
         self.store = BodyStore(Kind)
+        for edge in edges(config):  # the playfield's, for the world's whole life
+            self.store.add(edge)
         self.hi_score = 0
         self.games = 0
         self.aliens_killed = 0
@@ -108,8 +113,8 @@ class World:
 
     def kind_counts(self) -> dict[str, int]:
         """Live collidable bodies per kind, by name (what replays compare first)."""
-        return {Kind(kind).name.lower(): len(bodies)
-                for kind, bodies in self.store.by_kind.items()}
+        by_kind = self.store.by_kind
+        return {kind.name.lower(): len(by_kind[kind]) for kind in THINGS}
 
     def bodies(self, kind: Kind) -> list[Body]:
         """Live bodies of a kind, in id order."""
@@ -129,7 +134,7 @@ class World:
         cfg = self.config
         g = cfg.geometry
         store = self.store
-        for kind in Kind:
+        for kind in THINGS:  # the edges stay
             for body in list(store.by_kind[kind]):
                 store.remove(body)
         self.wave = wave
@@ -270,22 +275,17 @@ class World:
             self.events.append(Event.SHOT_FIRED)
 
     def _move_shot(self) -> None:
+        """Up by its speed: reaching the top limit is a contact (with the TOP edge)."""
         shot = self.shot
-        if shot is None:
-            return
-        y = shot.y - self.config.speeds.shot
-        if y <= self.config.geometry.shot_top_limit:
-            self.burst_shot(shot.x, y)
-            return
-        self.store.move(shot, shot.x, y)
+        if shot is not None:
+            self.store.move(shot, shot.x, shot.y - self.config.speeds.shot)
 
     def _bomb_turn(self, slot: bombs.BombSlot) -> None:
         cfg = self.config
         if slot.bomb is not None:
             fast = self.rack.live <= cfg.speeds.bomb_fast_at
+            # Reaching the ground is a contact (with the GROUND edge).
             bombs.advance(slot, cfg.speeds.bomb_fast if fast else cfg.speeds.bomb, self.store)
-            if slot.bomb.y >= cfg.geometry.bomb_ground_top:
-                self._bomb_hits_ground(slot)
             return
         if slot.burst > 0:
             slot.burst -= 1  # the step counter stands still during a burst (05CA)
@@ -320,10 +320,9 @@ class World:
         if col is not None and bombs.spawn(slot, self.rack, col, self.store) is not None:
             self.events.append(Event.BOMB_FIRED)
 
-    def _bomb_hits_ground(self, slot: bombs.BombSlot) -> None:
+    def bomb_hits_ground(self, bomb: Bomb) -> None:
         """A bomb at the bottom bursts on the ground line and chips it."""
-        bomb = slot.bomb
-        assert bomb is not None
+        slot = self.slots[bomb.btype]
         g = self.config.geometry
         x, y = bomb.x - 2, g.ground_row - 7
         self.ground.erase(art.mask_of(art.BOMB_BURST), (x, y - g.ground_row))
