@@ -163,6 +163,9 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
                             "broad phase, the automatic choice and pymunk")
     bench.add_argument("--rounds", type=_int_in("--rounds", 3, 100), default=10,
                        help="interleaved rounds; figures are medians over them")
+    bench.add_argument("--against", metavar="REV",
+                       help="instead, this tree's game speed against a git revision's "
+                            "(checked out in a temporary worktree), game by game in turn")
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -292,6 +295,13 @@ def cmd_bench(args: argparse.Namespace) -> int:
     use_dummy_drivers()
     from invaders.lab.bench import BenchFailure, bench
 
+    if args.against is not None:
+        from invaders.lab.against import AgainstError, against
+
+        try:
+            return against(args.against, args.ticks, args.seed, args.rounds)
+        except AgainstError as err:
+            raise UsageError(str(err)) from None
     if args.ale:
         from invaders.lab.ale import available
 
