@@ -9,16 +9,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from invaders.engine.adaptive import GRID_FROM, GRID_UNTIL, NUMPY_FROM, NUMPY_UNTIL, Adaptive
 from invaders.engine.body import Body
 from invaders.engine.broadphase import Brute, SortAndSweep
-from invaders.engine.detector import (
-    GRID_FROM,
-    GRID_UNTIL,
-    NUMPY_FROM,
-    NUMPY_UNTIL,
-    Adaptive,
-    Detector,
-)
+from invaders.engine.detector import Detector
 from invaders.engine.grid import Grid
 from invaders.engine.numpy_grid import NumpyGrid
 from invaders.engine.rects import CellRects
@@ -363,7 +357,7 @@ def test_the_numpy_broad_phase_hears_every_move_of_a_body_the_grid_fenced():
     every move, so its bodies lose their fences when it takes the store over, and a body
     that comes back later has none. Here the probe moves, inside its old cell, onto the
     target."""
-    from invaders.engine.detector import make_broadphase
+    from invaders.engine.adaptive import make_broadphase
 
     for comes_back in (False, True):
         store, _, detector, probe, _ = _two_blocks((2, 2), (26, 2))
@@ -391,7 +385,7 @@ def test_a_move_is_heard_though_finding_a_zones_bodies_took_it_from_the_buffer(n
     empty; the numpy broad phase drains that buffer when asked for a zone's bodies, which
     comes first. Here kind 3 meets kind 1 only in a zone far off, so the groups are the
     same each tick, and the probe moves onto the target."""
-    from invaders.engine.detector import make_broadphase
+    from invaders.engine.adaptive import make_broadphase
     from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
     from invaders.engine.store import BodyStore
 
@@ -473,3 +467,25 @@ def test_numpy_cells_are_every_cell_each_box_covers(seed, cell, size):
                 for cy in range(y0 // cell, (y1 - 1) // cell + 1)
                 for cx in range(x0 // cell, (x1 - 1) // cell + 1)]
     assert found == expected
+
+
+@settings(max_examples=100, deadline=None)
+@given(rows=st.lists(st.tuples(st.integers(-300, 300), st.integers(-300, 300),
+                               st.integers(1, 40), st.integers(1, 40),
+                               st.integers(-40, 40), st.integers(-40, 40), st.booleans()),
+                     min_size=1, max_size=30))
+def test_numpy_bins_by_the_same_box_over_the_tick_as_every_other_broad_phase(rows):
+    """`tick_box` is the rule the grid, the cell rects and sort-and-sweep bin by; numpy's
+    arrays must give the same boxes, moved or not, any size, either direction."""
+    from invaders.engine.body import tick_box
+    from invaders.engine.numpy_grid import _read, _tick_boxes
+
+    bodies = []
+    for i, (x, y, w, h, dx, dy, moved) in enumerate(rows, 1):
+        body = Body(i, 1, x, y, art.fresh_mask(art.art(*["#" * w] * h)))
+        if moved:
+            body.px, body.py, body.moved_tick = x - dx, y - dy, 5
+        bodies.append(body)
+    raw = _read(bodies, {})
+    boxes = _tick_boxes(raw, raw[:, 8] == 5)
+    assert boxes.tolist() == [list(tick_box(b, 5)) for b in bodies]

@@ -117,7 +117,7 @@ class GridAgainstBrute(RuleBasedStateMachine):
     def _bodies(self) -> list[Body]:
         return [b for bodies in self.store.by_kind.values() for b in bodies]
 
-    @precondition(lambda self: self.store.count() > 0)
+    @precondition(lambda self: self.store.size > 0)
     @rule(pick=st.integers(0, 10**6), dx=st.integers(-40, 40), dy=st.integers(-40, 40))
     def move(self, pick, dx, dy):
         self._move(pick, dx, dy)
@@ -127,7 +127,7 @@ class GridAgainstBrute(RuleBasedStateMachine):
         body = bodies[pick % len(bodies)]
         self.store.move(body, body.x + dx, body.y + dy)
 
-    @precondition(lambda self: self.store.count() > 0)
+    @precondition(lambda self: self.store.size > 0)
     @rule(pick=st.integers(0, 10**6), sx=st.integers(-40, 40), sy=st.integers(-40, 40),
           dx=st.integers(-40, 40), dy=st.integers(-40, 40))
     def move_played_back(self, pick, sx, sy, dx, dy):
@@ -136,13 +136,13 @@ class GridAgainstBrute(RuleBasedStateMachine):
         body = bodies[pick % len(bodies)]
         self.store.move_from(body, body.x + sx, body.y + sy, body.x + dx, body.y + dy)
 
-    @precondition(lambda self: self.store.count() > 0)
+    @precondition(lambda self: self.store.size > 0)
     @rule(pick=st.integers(0, 10**6), shape=st.integers(0, len(SHAPES) - 1))
     def reshape(self, pick, shape):
         bodies = self._bodies()
         self.store.reshape(bodies[pick % len(bodies)], SHAPES[shape])
 
-    @precondition(lambda self: self.store.count() > 0)
+    @precondition(lambda self: self.store.size > 0)
     @rule(pick=st.integers(0, 10**6))
     def remove(self, pick):
         bodies = self._bodies()
@@ -251,7 +251,7 @@ class SwitchingAgainstBrute(GridAgainstBrute):
     def add(self, kind, shape, x, y):
         self._add(kind, shape, x, y)
 
-    @precondition(lambda self: self.store.count() > 0)
+    @precondition(lambda self: self.store.size > 0)
     @rule(pick=st.integers(0, 10**6), dx=st.integers(-6, 6), dy=st.integers(-6, 6))
     def move(self, pick, dx, dy):
         self._move(pick, dx, dy)

@@ -370,3 +370,25 @@ def test_with_one_alien_left_the_plunger_finishes_its_bomb_then_fires_no_more():
         world.step(0)
         fired += before is None and slot.bomb is not None
     assert fired == 0
+
+
+def test_every_report_of_a_game_has_every_field_of_its_type():
+    """World.step makes its TickReport with tuple.__new__, which checks nothing: every
+    report of whole games (every style, so kills, deaths, waves and game over) has all
+    the fields, each of the type it declares."""
+    from invaders.engine.stats import CollisionStats, Contact
+    from invaders.game.world import TickReport
+    from invaders.lab.autopilot import Autopilot
+
+    types = {"tick": int, "stats": CollisionStats, "events": tuple, "contacts": tuple,
+             "broadphase": str, "cell": int}
+    assert tuple(types) == TickReport._fields
+    for style in ("hunter", "defender"):
+        world, pilot = World(seed=1), Autopilot(1, style)
+        for _ in range(4000):
+            report = world.step(pilot.actions(world))
+            assert len(report) == len(TickReport._fields)
+            assert all(isinstance(getattr(report, name), kind) for name, kind in types.items())
+            assert all(isinstance(c, Contact) and len(c) == len(Contact._fields)
+                       for c in report.contacts)
+            assert len(report.stats) == len(CollisionStats._fields)

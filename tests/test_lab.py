@@ -11,7 +11,8 @@ import pytest
 
 from invaders.app.cli import main
 from invaders.app.recording import Recorder, save_replay
-from invaders.engine.detector import Detector, make_broadphase
+from invaders.engine.adaptive import make_broadphase
+from invaders.engine.detector import Detector
 from invaders.game.actions import Action
 from invaders.game.replay import load, run
 from invaders.game.world import World

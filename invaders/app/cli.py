@@ -9,7 +9,7 @@ from collections.abc import Callable, Sequence
 from typing import NamedTuple, NoReturn
 
 from invaders import __version__
-from invaders.engine.detector import BROADPHASES, DEFAULT_BROADPHASE
+from invaders.engine.adaptive import BROADPHASES, DEFAULT_BROADPHASE
 from invaders.engine.grid import DEFAULT_CELL
 from invaders.lab import choices
 from invaders.lab.styles import STYLES

@@ -24,7 +24,7 @@ from invaders.app.render import CandidateWatch, Renderer
 from invaders.app.signals import StopSignals
 from invaders.app.sound import SoundBoard
 from invaders.atomic import atomic_writer
-from invaders.engine.detector import DEFAULT_BROADPHASE
+from invaders.engine.adaptive import DEFAULT_BROADPHASE
 from invaders.game.actions import Action
 from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.replay import Replay

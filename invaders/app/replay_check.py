@@ -9,7 +9,7 @@ from pathlib import Path
 from invaders.app.outputs import REPLAY_SUFFIXES, OutputError, check_output, writing
 from invaders.app.processing import working_on
 from invaders.app.recording import save_replay
-from invaders.engine.detector import DEFAULT_BROADPHASE
+from invaders.engine.adaptive import DEFAULT_BROADPHASE
 from invaders.game.replay import Replay, ReplayError, load, replay_paths, run
 from invaders.lab.live import Choice, replay_switch
 

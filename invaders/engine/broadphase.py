@@ -13,7 +13,7 @@ from collections.abc import Mapping, Sequence
 from typing import NamedTuple, Protocol
 
 from invaders.engine.body import Body, tick_box
-from invaders.engine.rules import PairRule
+from invaders.engine.rules import PairRule, Zone
 
 Group = tuple[PairRule, Sequence[Body], Sequence[Body]]
 Pair = tuple[Body, Body, PairRule]
@@ -34,7 +34,26 @@ class Scene(Protocol):
     by_kind: Mapping[int, Sequence[Body]]
 
 
+class ZoneTest(Protocol):
+    """A zone as the detector indexes it: its boxes, and the exact test of bodies."""
+
+    zone: Zone
+
+    def holds(self, body: Body, tick: int) -> bool: ...
+
+    def within(self, bodies: Sequence[Body], tick: int) -> list[Body]: ...
+
+
+class Counted(Scene, Protocol):
+    """A scene that keeps its body count (a `BodyStore` does)."""
+
+    size: int
+
+
 class BroadPhase(Protocol):
+    """What the detector asks of a broad phase. The concrete ones derive from it, so they
+    share its defaults (`in_zone`, `fit`)."""
+
     name: str
     cell: int  # the grid's cell size in px; 0 for broad phases without cells
     # Filled by the store (None: it keeps no state), emptied only by the broad phase itself
@@ -51,6 +70,15 @@ class BroadPhase(Protocol):
         phase may hand out the same answer again."""
         ...
 
+    def in_zone(self, scene: Scene, kind: int, zone: ZoneTest, kinds: KindSets) -> list[Body]:
+        """The bodies of a kind whose box over the tick meets the zone, in id order: by
+        default each tested; a broad phase with their boxes at hand may answer faster."""
+        return zone.within(scene.by_kind[kind], scene.tick)
+
+    def fit(self, scene: Counted, kinds: KindSets) -> None:
+        """Bodies came or went: a broad phase that picks itself by the body count may
+        change here (told by the detector's replan). By default nothing."""
+
 
 def ordered(a: Body, b: Body, rule: PairRule) -> Pair:
     return (a, b, rule) if a.id < b.id else (b, a, rule)
@@ -60,7 +88,7 @@ def pair_key(pair: Pair) -> tuple[int, int]:
     return pair[0].id, pair[1].id
 
 
-class Brute:
+class Brute(BroadPhase):
     """Every allowed pair: the reference the others must agree with."""
 
     name = "brute"
@@ -77,7 +105,7 @@ class Brute:
         return out
 
 
-class SortAndSweep:
+class SortAndSweep(BroadPhase):
     """Sort both sides of a group by the left edge of their boxes and sweep across: only
     boxes whose x-spans overlap are compared, and those must overlap in y too.
 

@@ -1,142 +1,32 @@
-"""detect(store) -> (contacts, stats): reduce, quick test, thorough test. Reads only.
+"""detect(store) -> (contacts, stats): reduce, quick test, thorough test.
 
 Step 1 keeps only pairs of kinds the rules table lists (inside their zones, judged on each
 body's box over the whole tick) and asks the broad phase for candidates; step 2 tests boxes
 (swept boxes for swept entries); step 3 tests pixels where the entry says the shape is not
 its box, or walks the relative motion for swept entries. Every contact carries its time of
 first touch within the tick; they come out in (time, low id, high id) order. Step 4,
-response, is `response.respond`.
+response, is `response.respond`. The detector moves no body: it attaches its broad phase to
+the store it is given (which then fills the broad phase's move buffer), and that is all it
+changes outside itself.
 """
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Protocol
 
 import pygame
 
 from invaders.engine import predicates
 from invaders.engine.body import Body, tick_box
-from invaders.engine.broadphase import (
-    BroadPhase,
-    Brute,
-    Group,
-    KindSets,
-    Pair,
-    Scene,
-    SortAndSweep,
-)
-from invaders.engine.grid import DEFAULT_CELL, Grid
-from invaders.engine.rects import CellRects
+from invaders.engine.broadphase import BroadPhase, Group, KindSets, Pair, Scene
 from invaders.engine.rules import Motion, PairRule, RuleTable, Zone
 from invaders.engine.stats import CollisionStats, Contact, contact_time, impact_time
 from invaders.engine.store import BodyStore
 
 QuickTest = Callable[[tuple[int, int, int, int], tuple[int, int, int, int]], bool]
-BROADPHASES = ("auto", "rects", "grid", "numpy", "brute", "sweep")
-DEFAULT_BROADPHASE = "auto"  # the game's, the command line's and the sprite collider's
-# Bodies from which the grid beats the cell rects (brute force in C), as measured on storms
-# (30 ticks, 5-7 rounds taking turns frame by frame, the grid's time over the rects'): 100
-# bodies 1.07, 200 1.04, 250 0.95, 300 0.94, 400 0.94. On a game's frames the rects take
-# three quarters of the grid's time.
-GRID_FROM = 220
-GRID_UNTIL = 160  # below this an automatic choice goes back to the rects (no flapping)
-# Bodies from which the numpy broad phase beats the grid, as measured on storms on a busy
-# 2-core machine (ms of detection a tick, grid then numpy). `invaders study` (docs/study/
-# scaling.csv, each a median of three plays): 300 bodies 0.86 and 1.56, 1,000 2.91 and 2.44,
-# 3,000 9.79 and 4.15, 10,000 29.19 and 9.92; `invaders bench --big` (20 rounds, turns frame
-# by frame) at 1,000: 2.44 and 2.24. In steady state over 9 interleaved rounds, storms of
-# 400, 500, 600, 700 and 900 bodies gave the grid's time over numpy's as 0.62, 0.68, 0.76,
-# 0.88 and 1.15: the two meet between 700 and 900 bodies, and the switch sits between.
-NUMPY_FROM = 800
-NUMPY_UNTIL = 600  # below this an automatic choice goes back to the grid (no flapping)
-# The automatic choice's broad phases, smallest scenes first: each with the body count
-# from which it is taken, and the count below which it is left again.
-TIERS = (("rects", 0, 0), ("grid", GRID_FROM, GRID_UNTIL), ("numpy", NUMPY_FROM, NUMPY_UNTIL))
 SWEPT, LANDING = Motion.SWEPT, Motion.LANDING  # an enum member by name costs a slow look-up
-_solid_mask = predicates.solid_mask
-_kept_swept_mask = predicates.kept_swept_mask
-_first_touch = predicates.first_touch
-_substeps = predicates.substeps
-_new = tuple.__new__  # a NamedTuple from a tuple: half the cost of its own constructor
-
-
-class Adaptive:
-    """The cell rects for game-sized scenes, the grid for bigger ones and the numpy broad
-    phase for the biggest, by the body count (`TIERS`); the one in use is rebuilt from the
-    scene on a change. All give the pairs brute force would test whose boxes may meet, so
-    switching changes no contact. The detector calls `fit` when bodies come or go (the
-    only time the count moves); between, `pairs` is the active one's own, so choosing
-    costs a tick nothing."""
-
-    name = "auto"
-
-    def __init__(self, cell: int = DEFAULT_CELL) -> None:
-        self._cell = cell
-        self.move_buffer: list[Body] = []
-        self._take(0)
-
-    @property
-    def cell(self) -> int:
-        return self.active.cell
-
-    def _take(self, tier: int) -> None:
-        """Tier `tier` of `TIERS` made active, and the body counts it is kept between. The
-        new one fills its move buffer from the store's: the same list, nothing copied."""
-        self._tier = tier
-        self._low = TIERS[tier][2]
-        self._high = TIERS[tier + 1][1] if tier + 1 < len(TIERS) else sys.maxsize
-        self.active: BroadPhase = make_broadphase(TIERS[tier][0], self._cell)
-        self.active.move_buffer = self.move_buffer
-        self.pairs = self.active.pairs
-
-    def rebuild(self, scene: Scene, kinds: KindSets) -> None:
-        """The tier for the scene's body count, built from the scene itself."""
-        self._choose(sum(len(bodies) for bodies in scene.by_kind.values()))
-        self.active.rebuild(scene, kinds)  # the buffer is moot
-
-    def fit(self, store: BodyStore, kinds: KindSets) -> None:
-        """Bodies came or went: a new tier if the count left the one in use's."""
-        n = store.size
-        if not self._low <= n < self._high:
-            self._choose(n)
-            self.active.rebuild(store, kinds)
-
-    def _choose(self, n: int) -> None:
-        """The tier for n bodies: a tier up to the one in use is kept down to its lower
-        count, one above it is taken from its higher."""
-        tier = 0
-        for place, (_, start, keep) in enumerate(TIERS):
-            if n >= (keep if place <= self._tier else start):
-                tier = place
-        if tier != self._tier:
-            self._take(tier)
-
-    def in_zone(self, scene: Scene, kind: int, zone: ZoneIndex, kinds: KindSets) -> list[Body]:
-        in_zone = getattr(self.active, "in_zone", None)
-        if in_zone is not None:
-            return in_zone(scene, kind, zone, kinds)
-        return _tested_in_zone(scene, kind, zone, kinds)
-
-
-def make_broadphase(name: str, cell: int = DEFAULT_CELL) -> BroadPhase:
-    """A broad phase by its command-line name."""
-    if name == "grid":
-        return Grid(cell)
-    if name == "rects":
-        return CellRects(cell)
-    if name == "brute":
-        return Brute()
-    if name == "sweep":
-        return SortAndSweep()
-    if name == "numpy":
-        from invaders.engine.numpy_grid import NumpyGrid  # numpy only when asked for
-
-        return NumpyGrid(cell)
-    if name == "auto":
-        return Adaptive(cell)
-    raise ValueError(f"unknown broad phase {name!r} (choose from {', '.join(BROADPHASES)})")
 
 
 class DetectionObserver(Protocol):
@@ -188,216 +78,139 @@ class ZoneIndex:
 
 def _shape_mask(body: Body, rule: PairRule) -> pygame.mask.Mask:
     """What the entry tests of the body: its mask, or its whole box."""
-    return body.mask if body.kind in rule.masked else _solid_mask(body.w, body.h)
+    return body.mask if body.kind in rule.masked else predicates.solid_mask(body.w, body.h)
+
+
+@dataclass(slots=True)
+class Plan:
+    """What a detector works out when bodies come or go, and keeps until they next do:
+    valid while the store's membership value is the one it was made for (a value no store
+    ever takes twice: bodies added or removed, or a broad phase attached or detached, give a
+    new one, so an equal value means the same store with the same bodies, fed to the same
+    broad phase). `tests/test_engine.py` breaks if any of those changes leaves it standing."""
+
+    membership: int
+    groups: list[Group]  # entries without a zone: (rule, the store's own lists of each side)
+    zoned: list[tuple[int, PairRule, ZoneIndex]]  # entries with one, by place in the table
+    bodies: int
+    allowed: int  # the pairs the groups allow
+    quiet: CollisionStats  # the counters of a tick with no candidate and nothing zoned
+    # Those of a tick whose candidates (by their number) all parted at the quick test,
+    # nothing zoned: the bodies and the pairs allowed are the plan's, so they repeat while
+    # it stands (most ticks with candidates at game scale are such).
+    parted: dict[int, CollisionStats]
 
 
 class Detector:
-    """A rules table and a broad phase; holds only the broad phase's own bookkeeping."""
+    """A rules table and a broad phase, and three answers kept between ticks: the groups
+    for each set of kinds present, the plan (while no body comes or goes) and the broad
+    phase's last candidates (while it hears of no change). It attaches its broad phase to
+    the store it is given and never moves a body."""
 
     def __init__(self, broadphase: BroadPhase, rules: RuleTable,
                  quick: QuickTest | None = None) -> None:
         self.broadphase = broadphase
         self.rules = rules
-        self.quick = quick  # None: exact box overlap, inlined; else a study's stand-in
+        self.quick = quick  # None: the exact box test; else a study's stand-in for it
         self.kinds = KindSets(rules.swept_kinds(), rules.probed_kinds())
         self.eroding = rules.eroding
         self.observers: list[DetectionObserver] = []
         self._table = tuple((rule, rule.a, rule.b, None if rule.zone is None
                              else ZoneIndex(rule.zone)) for rule in rules)
-        self._plans: dict[int, tuple] = {}  # kinds present (bit mask) -> groups that apply
-        # What holds until a body comes or goes (the store's membership moves): the plan,
-        # the pairs its zone-less groups allow, and the counters of a tick with no pairs.
-        self._planned_for: BodyStore | None = None
-        self._membership = 0  # the store's membership when planned (never a store's own)
-        self._groups: list[Group] = []
-        self._zoned: list[tuple[int, PairRule, ZoneIndex]] = []
-        self._allowed = 0
-        self._quiet = CollisionStats()
-        # A broad phase that keeps state answers the same groups the same until it hears of
-        # a change (its move buffer fills): the groups last asked, and the answer.
+        self._plan = Plan(0, [], [], 0, 0, CollisionStats(), {})  # membership 0: no store's
+        # The groups for each set of kinds present (a bit per kind), for one store: they
+        # hold that store's own lists of bodies, which it keeps for its life, so they stay
+        # right for it whatever comes and goes; and the same objects each time those kinds
+        # are present again, which lets a broad phase keep what it made of them.
+        self._grouped: dict[int, tuple[list[Group], list[tuple[int, PairRule, ZoneIndex]]]] = {}
+        self._grouped_for: BodyStore | None = None
+        self._fed: BodyStore | None = None  # the store its broad phase was last attached to
+        # The broad phase's last answer: the groups asked (held, so never another's by
+        # identity) and its candidates. A broad phase that keeps state gives the same
+        # groups the same answer until its move buffer fills, and the store puts every
+        # change of a body there; a new plan drops it. (None: nothing kept.)
         self._asked: Sequence[Group] | None = None
         self._answer: Sequence[Pair] = ()
-        self._settled = 0  # the store's membership when it was given for groups with no zone
-        # (bodies, pairs allowed, candidates) -> the counters of a tick whose candidates all
-        # parted at the quick test
-        self._quiet_by_count: dict[tuple[int, int, int], CollisionStats] = {}
-        self._parted: Sequence[Pair] = ()  # the last pairs that all parted, and the counters
-        self._parted_stats = CollisionStats()
-        # A broad phase may find the bodies in a zone faster than testing each one.
-        self._in_zone = getattr(broadphase, "in_zone", None) or _tested_in_zone
-        self._fit = getattr(broadphase, "fit", None)  # told when bodies come or go
 
     def detect(self, store: BodyStore) -> tuple[list[Contact], CollisionStats]:
-        """This tick's contacts in (time, low id, high id) order, and the counters."""
+        """This tick's contacts in (time, low id, high id) order, and the counters: step 1
+        gives the candidates, step 2 those whose boxes meet, step 3 the contacts among
+        those; most ticks at game scale end at step 1 or 2 with the counters kept."""
         observers = self.observers
         if observers:
             for observer in reversed(observers):
                 observer.before(store)
-        if store.membership == self._settled and not self.broadphase.move_buffer:
-            # The usual tick: no body came, went or was heard since the broad phase last
-            # answered the same groups, with no zone to filter: the same candidates.
-            pairs = self._answer
-            if not pairs and not observers:  # (most ticks at game scale)
-                return [], self._quiet
-            allowed = self._allowed
-            zoned = ()
+        plan = self._plan
+        if plan.membership != store.membership:  # bodies came or went, or a new store
+            plan = self._replan(store)
+        if (self._asked is plan.groups and not plan.zoned
+                and not self.broadphase.move_buffer):  # the plan's groups, nothing heard
+            pairs, allowed = self._answer, plan.allowed
         else:
-            if store.membership != self._membership:  # (bodies came or went, or new to us)
-                self._replan(store)
-            broadphase = self.broadphase
-            groups = self._groups
-            allowed = self._allowed
-            zoned = self._zoned
-            if zoned:
-                heard = bool(broadphase.move_buffer)  # first: finding a zone's bodies may drain it
-                groups, in_zones = self._with_zones(store, groups, zoned)
-                allowed += in_zones
-            else:
-                heard = broadphase.move_buffer  # (its truth is all that is read)
-            if groups is self._asked and not heard:
-                pairs = self._answer  # nothing heard since the same groups were asked
-            elif groups:
-                pairs = broadphase.pairs(store, groups, self.kinds)
-                if broadphase.move_buffer is not None:  # it keeps state: the answer holds
-                    self._asked = groups
-                    self._answer = pairs
-                    if not zoned:
-                        self._settled = store.membership
-            else:
-                pairs = ()
-        if not pairs:  # the usual tick at game scale: the same counters as last time
-            contacts: list[Contact] = []
-            stats = self._quiet if not zoned else self._quiet_counters(store.size, allowed)
-            if observers:
-                for observer in observers:
-                    observer.after(store, pairs, contacts, stats)
-            return contacts, stats
-
-        tick = store.tick
-        quick = self.quick
-        contacts = []
-        rect_hits = mask_tests = mask_hits = swept_tests = 0  # every pair gets a rect test
-        for a, b, rule in pairs:
-            if quick is not None and not quick(_xywh(a, tick, rule), _xywh(b, tick, rule)):
-                continue
-            motion = rule.motion
-            if motion is SWEPT:
-                # The quick test, predicates.swept_box_overlap inlined (the hot path): b's box
-                # moved by the pair's motion relative to a, from offset (ox, oy) to (ex, ey),
-                # against a's box. The x axis first: most pairs part there.
-                a_moved = a.moved_tick == tick
-                b_moved = b.moved_tick == tick
-                apx = a.px if a_moved else a.x
-                ox = (b.px if b_moved else b.x) - apx
-                ex = b.x - a.x
-                if ex < ox:
-                    if not (ex < a.w and ox + b.w > 0):
-                        continue
-                elif not (ox < a.w and ex + b.w > 0):
-                    continue
-                apy = a.py if a_moved else a.y
-                oy = (b.py if b_moved else b.y) - apy
-                ey = b.y - a.y
-                if ey < oy:
-                    if not (ey < a.h and oy + b.h > 0):
-                        continue
-                elif not (oy < a.h and ey + b.h > 0):
-                    continue
-                swept_tests += 1  # a rect hit too: counted in at the end
-                contact = self._walk(a, b, rule, tick, apx, apy, ox, oy, ex - ox, ey - oy)
-                if contact is not None:
-                    contacts.append(contact)
-                continue
-            if quick is None and not (a.x < b.x + b.w and b.x < a.x + a.w
-                                      and a.y < b.y + b.h and b.y < a.y + a.h):
-                continue
-            rect_hits += 1
-            if rule.needs_pixels:
-                mask_tests += 1
-                point = predicates.masks_overlap(
-                    _shape_mask(a, rule), a.x, a.y, _shape_mask(b, rule), b.x, b.y)
-                if point is None:
-                    continue
-                mask_hits += 1
-            else:
-                point = (max(a.x, b.x), max(a.y, b.y))
-            if motion is LANDING:
-                contacts.append(_new(Contact, (tick, impact_time(1, 1), a.id, b.id, a.kind,
-                                               b.kind, a.x, a.y, b.x, b.y, *point, rule)))
-                continue
-            # Discrete: found where they landed; its time is when they first touched.
-            apx, apy = a.start_of_tick(tick)
-            bpx, bpy = b.start_of_tick(tick)
-            walked = self._walk(a, b, rule, tick, apx, apy, bpx - apx, bpy - apy,
-                                (b.x - bpx) - (a.x - apx), (b.y - bpy) - (a.y - apy))
-            time = walked.time if walked is not None else impact_time(1, 1)
-            contacts.append(_new(Contact, (tick, time, a.id, b.id, a.kind, b.kind, a.x, a.y,
-                                           b.x, b.y, *point, rule)))
-        if contacts or rect_hits or swept_tests:
-            if len(contacts) > 1:  # by time; ties stay in the pairs' (low id, high id) order
-                contacts.sort(key=contact_time)
-            n = store.size
-            stats = _new(CollisionStats, (n, n * (n - 1) // 2, allowed, len(pairs), len(pairs),
-                                          rect_hits + swept_tests, mask_tests, mask_hits,
-                                          swept_tests, len(contacts)))
-        elif pairs is self._parted and allowed == self._parted_stats.allowed_pairs:
-            stats = self._parted_stats  # the same pairs parted again, as on most such ticks
-        else:  # every pair parted at the quick test, as on most ticks with pairs
-            stats = self._parted_stats = self._quiet_counters(store.size, allowed, len(pairs))
-            self._parted = pairs
+            pairs, allowed = self._candidates(store, plan)
+        if not pairs and allowed == plan.allowed:  # the usual tick at game scale
+            contacts, stats = [], plan.quiet
+        else:
+            contacts, stats = self._tested(plan, pairs, allowed, store.tick)
         if observers:
             for observer in observers:
                 observer.after(store, pairs, contacts, stats)
         return contacts, stats
 
-    def _replan(self, store: BodyStore) -> None:
-        """A body came or went (or the store is new to this detector, or its broad phase
-        was detached): the plan for the kinds present now (kept per set of kinds, for the
-        store it was made for), the pairs its zone-less groups allow, and the counters of a
-        tick that finds no pairs."""
+    def _tested(self, plan: Plan, pairs: Sequence[Pair], allowed: int, tick: int
+                ) -> tuple[list[Contact], CollisionStats]:
+        """Steps 2 and 3 on the candidates, and the counters. A tick whose candidates all
+        parted at the quick test has the counters of the plan's for that many (made once
+        while the plan stands, when its zone-less groups are all there is)."""
+        hits = self._quick_test(pairs, tick)
+        n = len(pairs)
+        if hits:
+            contacts, mask_tests, mask_hits, swept_tests = self._thorough_test(hits, tick)
+            return contacts, CollisionStats(plan.bodies, plan.quiet.naive_pairs, allowed, n,
+                                            n, len(hits), mask_tests, mask_hits, swept_tests,
+                                            len(contacts))
+        stats = plan.parted.get(n) if allowed == plan.allowed else None
+        if stats is None:
+            stats = CollisionStats(plan.bodies, plan.quiet.naive_pairs, allowed, n, n)
+            if allowed == plan.allowed:
+                plan.parted[n] = stats
+        return [], stats
+
+    def _replan(self, store: BodyStore) -> Plan:
+        """The plan for the kinds the store has now. A broad phase that keeps state is
+        attached first (it hears of every later change from the store, and starts from the
+        store as it is; a store it heard before is detached), which gives the store a new
+        membership value; one that fits itself to the body count is told it."""
         broadphase = self.broadphase
         if store.listener is not broadphase and broadphase.move_buffer is not None:
-            # A broad phase that keeps state hears of every later change from the store;
-            # it starts from the store as it is. (Stateless ones need not listen.)
+            fed = self._fed
+            if fed is not None and fed is not store and fed.listener is broadphase:
+                fed.detach()  # it hears one store: the other starts afresh when next given
             store.attach(broadphase)
-            broadphase.rebuild(store, self.kinds)
-        if self._planned_for is not store:  # plans hold a store's own lists of bodies
-            self._plans.clear()
-            self._planned_for = store
-        self._membership = store.membership
-        self._asked = None  # (a broad phase that fits itself to the count may start afresh)
-        if self._fit is not None:
-            self._fit(store, self.kinds)
-        plan = self._plans.get(store.present)
-        if plan is None:
-            plan = self._plans[store.present] = self._plan(store)
-        self._groups, self._zoned = plan
+            broadphase.rebuild(store, self.kinds)  # (drains the buffer: nothing "heard")
+            self._fed = store
+        broadphase.fit(store, self.kinds)  # (may change to another broad phase)
+        self._asked = None  # either way, the last answer may not stand
+        if self._grouped_for is not store:
+            self._grouped = {}
+            self._grouped_for = store
+        grouped = self._grouped.get(store.present)
+        if grouped is None:
+            grouped = self._grouped[store.present] = self._group(store)
+        groups, zoned = grouped
         allowed = 0
-        for _, side_a, side_b in self._groups:
+        for _, side_a, side_b in groups:
             allowed += len(side_a) * len(side_b)
-        self._allowed = allowed
-        n = store.size  # a body came or went: nearly always counters not seen before
-        self._quiet = _new(CollisionStats, (n, n * (n - 1) // 2, allowed, 0, 0, 0, 0, 0, 0, 0))
+        n = store.size
+        self._plan = Plan(store.membership, groups, zoned, n, allowed,
+                          CollisionStats(n, n * (n - 1) // 2, allowed), {})
+        return self._plan
 
-    def _quiet_counters(self, n: int, allowed: int, candidates: int = 0) -> CollisionStats:
-        """The counters of a tick whose candidates (if any) all parted at the quick test
-        (kept: most ticks are one, and they repeat while the counts do)."""
-        key = (n, allowed, candidates)
-        stats = self._quiet_by_count.get(key)
-        if stats is None:
-            if len(self._quiet_by_count) > 255:
-                self._quiet_by_count.clear()
-            stats = self._quiet_by_count[key] = _new(CollisionStats, (
-                n, n * (n - 1) // 2, allowed, candidates, candidates, 0, 0, 0, 0, 0))
-        return stats
-
-    def _plan(self, store: BodyStore
-              ) -> tuple[list[Group], list[tuple[int, PairRule, ZoneIndex]]]:
-        """For the kinds the store has now: the groups of the entries without a zone (the
-        store's own lists, the same every tick) and, by place in the table, the entries
-        with one and their zones (filtered every tick)."""
-        by_kind = store.by_kind
-        present = store.present
+    def _group(self, store: BodyStore
+               ) -> tuple[list[Group], list[tuple[int, PairRule, ZoneIndex]]]:
+        """The entries whose kinds the store has now: those without a zone as groups of the
+        store's own lists of bodies (which it keeps up to date), those with one by place."""
+        by_kind, present = store.by_kind, store.present
         groups: list[Group] = []
         zoned: list[tuple[int, PairRule, ZoneIndex]] = []
         for rule, kind_a, kind_b, zone in self._table:
@@ -408,72 +221,145 @@ class Detector:
                     zoned.append((len(groups) + len(zoned), rule, zone))
         return groups, zoned
 
-    def _with_zones(self, store: BodyStore, fixed: list[Group],
-                    zoned: list[tuple[int, PairRule, ZoneIndex]]) -> tuple[list[Group], int]:
-        """The tick's groups in table order: the fixed ones, and each zoned entry with the
+    def _candidates(self, store: BodyStore, plan: Plan) -> tuple[Sequence[Pair], int]:
+        """Step 1, reduce: the groups the rules allow (zoned entries filtered to the bodies
+        in their zones), the candidate pairs the broad phase finds in them, and how many
+        pairs the groups allow."""
+        broadphase = self.broadphase
+        heard = bool(broadphase.move_buffer)  # first: finding a zone's bodies may drain it
+        groups, allowed = plan.groups, plan.allowed
+        if plan.zoned:
+            groups, in_zones = self._with_zones(store, plan)
+            allowed += in_zones
+        if not groups:
+            return (), allowed
+        if groups is self._asked and not heard:
+            return self._answer, allowed  # nothing heard since these groups were asked
+        pairs = broadphase.pairs(store, groups, self.kinds)
+        if broadphase.move_buffer is not None:  # (one that keeps no state answers afresh)
+            self._asked, self._answer = groups, pairs
+        return pairs, allowed
+
+    def _with_zones(self, store: BodyStore, plan: Plan) -> tuple[list[Group], int]:
+        """The tick's groups in table order: the plan's, and each zoned entry with the
         bodies of its sides inside its zone (left out if a side has none); and the pairs
-        those zoned groups allow. With none in, the groups are `fixed` itself (so the grid
-        can answer the same groups from its last look)."""
-        groups = fixed
-        allowed = 0
-        in_zone = self._in_zone
-        skipped = 0  # zoned entries left out before this one
-        for place, rule, zone in zoned:
-            side_a = in_zone(store, rule.a, zone, self.kinds)
-            side_b = in_zone(store, rule.b, zone, self.kinds) if side_a else ()
+        those zoned groups allow. With none in, the groups are the plan's own list (so the
+        broad phase's last answer can stand)."""
+        groups = plan.groups
+        allowed = skipped = 0  # zoned entries left out before this one
+        for place, rule, zone in plan.zoned:
+            side_a = self.broadphase.in_zone(store, rule.a, zone, self.kinds)
+            side_b = self.broadphase.in_zone(store, rule.b, zone, self.kinds) if side_a else ()
             if side_a and side_b:
-                if groups is fixed:
-                    groups = list(fixed)
+                if groups is plan.groups:
+                    groups = list(groups)
                 groups.insert(place - skipped, (rule, side_a, side_b))
                 allowed += len(side_a) * len(side_b)
             else:
                 skipped += 1
         return groups, allowed
 
-    def _walk(self, a: Body, b: Body, rule: PairRule, tick: int, apx: int, apy: int,
-              ox: int, oy: int, dx: int, dy: int) -> Contact | None:
-        """The pixel walk along the pair's relative motion (dx, dy), from a's start (apx,
-        apy) with b at (ox, oy) from it: the first touch, or None. (The quick test is the
-        caller's.) The side that never erodes is the one swept, so its swept mask can be
-        kept; `predicates.first_swept_contact`'s first step, the swept mask's one test, is
-        inlined: most walks end there."""
-        masked = rule.masked  # _shape_mask, inlined
-        a_mask = a.mask if a.kind in masked else _solid_mask(a.w, a.h)
-        b_mask = b.mask if b.kind in masked else _solid_mask(b.w, b.h)
+    def _quick_test(self, pairs: Sequence[Pair], tick: int) -> list[Pair]:
+        """Step 2: the candidates whose boxes meet (for swept entries, b's box moved by
+        the pair's relative motion over the tick, against a's), or with a study's
+        stand-in for this test, those it passes."""
+        quick = self.quick
+        if quick is not None:
+            return [(a, b, rule) for a, b, rule in pairs
+                    if quick(_xywh(a, tick, rule), _xywh(b, tick, rule))]
+        hits = []
+        for pair in pairs:
+            a, b, rule = pair
+            if rule.motion is not SWEPT:
+                if a.x < b.x + b.w and b.x < a.x + a.w and a.y < b.y + b.h and b.y < a.y + a.h:
+                    hits.append(pair)
+                continue
+            # b's corner off a's goes from (ox, oy) to (ex, ey); where each started read in
+            # place (as Body.start_of_tick says): the x axis first, most pairs part there.
+            a_moved, b_moved = a.moved_tick == tick, b.moved_tick == tick
+            ox = (b.px if b_moved else b.x) - (a.px if a_moved else a.x)
+            ex = b.x - a.x
+            if (ox if ox < ex else ex) < a.w and (ex if ox < ex else ox) + b.w > 0:
+                oy = (b.py if b_moved else b.y) - (a.py if a_moved else a.y)
+                ey = b.y - a.y
+                if (oy if oy < ey else ey) < a.h and (ey if oy < ey else oy) + b.h > 0:
+                    hits.append(pair)
+        return hits
+
+    def _thorough_test(self, hits: list[Pair], tick: int
+                       ) -> tuple[list[Contact], int, int, int]:
+        """Step 3 on the pairs whose boxes met: pixels where they landed (or boxes, where
+        those are the shapes), or the walk along the relative motion for swept entries.
+        The contacts by time (ties in the pairs' (low id, high id) order), and the counts
+        of mask tests, mask hits and swept tests."""
+        contacts: list[Contact] = []
+        mask_tests = mask_hits = swept_tests = 0
+        for a, b, rule in hits:
+            if rule.motion is SWEPT:
+                swept_tests += 1
+                contact = self._walk(a, b, rule, tick)
+            else:
+                contact = self._landed(a, b, rule, tick)
+                if rule.needs_pixels:
+                    mask_tests += 1
+                    mask_hits += contact is not None
+            if contact is not None:
+                contacts.append(contact)
+        if len(contacts) > 1:
+            contacts.sort(key=contact_time)
+        return contacts, mask_tests, mask_hits, swept_tests
+
+    def _landed(self, a: Body, b: Body, rule: PairRule, tick: int) -> Contact | None:
+        """A discrete or landing entry's thorough test, where the pair landed: their
+        pixels (or boxes, where those are the shapes). A landing contact is timed at the
+        tick's end; a discrete one at its first touch along the tick's motion."""
+        if rule.needs_pixels:
+            point = predicates.masks_overlap(
+                _shape_mask(a, rule), a.x, a.y, _shape_mask(b, rule), b.x, b.y)
+            if point is None:
+                return None
+        else:
+            point = (max(a.x, b.x), max(a.y, b.y))
+        time = impact_time(1, 1)
+        if rule.motion is not LANDING:
+            walked = self._walk(a, b, rule, tick)
+            if walked is not None:
+                time = walked.time
+        return Contact(tick, time, a.id, b.id, a.kind, b.kind, a.x, a.y, b.x, b.y, *point,
+                       rule)
+
+    def _walk(self, a: Body, b: Body, rule: PairRule, tick: int) -> Contact | None:
+        """The pixel walk along the pair's relative motion over the tick: the first touch,
+        or None. The side that never erodes is the one swept, so its swept mask can be
+        kept; one test of that swept mask answers most walks."""
+        apx, apy = (a.px, a.py) if a.moved_tick == tick else (a.x, a.y)  # start_of_tick,
+        bpx, bpy = (b.px, b.py) if b.moved_tick == tick else (b.x, b.y)  # read in place
+        ox, oy = bpx - apx, bpy - apy  # b's corner off a's, at the start
+        dx, dy = (b.x - bpx) - (a.x - apx), (b.y - bpy) - (a.y - apy)  # and its motion
+        masked = rule.masked
+        a_mask = a.mask if a.kind in masked else predicates.solid_mask(a.w, a.h)
+        b_mask = b.mask if b.kind in masked else predicates.solid_mask(b.w, b.h)
         b_swept = b.kind not in self.eroding
         if b_swept:
             fixed, moving, sox, soy, sdx, sdy = a_mask, b_mask, ox, oy, dx, dy
         else:  # b erodes (a shield): a is swept against it
             fixed, moving, sox, soy, sdx, sdy = b_mask, a_mask, -ox, -oy, -dx, -dy
-        if dx or dy:
-            swept = _kept_swept_mask((moving, sdx, sdy))
-            if swept is None:
-                swept = predicates.swept_mask(moving, sdx, sdy)
-            if fixed.overlap(swept, (sox + sdx if sdx < 0 else sox,
-                                     soy + sdy if sdy < 0 else soy)) is None:
-                return None
-        found = _first_touch(fixed, moving, sox, soy, sdx, sdy,
-                             a.shaped_tick == tick or b.shaped_tick == tick)
+        found = predicates.first_swept_contact(fixed, moving, sox, soy, sdx, sdy,
+                                               a.shaped_tick == tick or b.shaped_tick == tick)
         if found is None:
             return None
         step, steps, (hx, hy) = found
-        sx, sy = _substeps(sdx, sdy)[step]
+        sx, sy = predicates.substeps(sdx, sdy)[step]
         if b_swept:  # the fixed side placed at its own point of the tick, the other from it
-            x, y = a.x, a.y
-            ax, ay = (x, y) if x == apx and y == apy else _at(apx, apy, x, y, step, steps)
+            ax, ay = _at(apx, apy, a.x, a.y, step, steps)
             bx, by = ax + ox + sx, ay + oy + sy
             hx, hy = ax + hx, ay + hy
         else:
-            bx, by = _at(apx + ox, apy + oy, b.x, b.y, step, steps)
+            bx, by = _at(bpx, bpy, b.x, b.y, step, steps)
             ax, ay = bx - ox + sx, by - oy + sy
             hx, hy = bx + hx, by + hy
-        return _new(Contact, (tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
-                              ax, ay, bx, by, hx, hy, rule))
-
-
-def _tested_in_zone(scene: Scene, kind: int, zone: ZoneIndex, kinds: KindSets) -> list[Body]:
-    """The bodies of a kind in a zone, each tested (for broad phases with no faster way)."""
-    return zone.within(scene.by_kind[kind], scene.tick)
+        return Contact(tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
+                       ax, ay, bx, by, hx, hy, rule)
 
 
 def _xywh(body: Body, tick: int, rule: PairRule) -> tuple[int, int, int, int]:

@@ -11,12 +11,19 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from invaders.engine.body import NOWHERE, Body
-from invaders.engine.broadphase import Group, KindSets, Pair, Scene, ordered, pair_key
+from invaders.engine.body import NOWHERE, Body, tick_box
+from invaders.engine.broadphase import (
+    BroadPhase,
+    Group,
+    KindSets,
+    Pair,
+    Scene,
+    ordered,
+    pair_key,
+)
 
-# px. At game scale 64 px is as fast or a little faster (lock-step on a game's frames: 9%;
-# `invaders study` puts either ahead from run to run) and 16 px slower, but in dense storms
-# 64 px is half again slower (1,000 bodies: 3.62 ms a tick against 2.36), so 32 px.
+# px: about the size of the game's bodies and gaps. `invaders study` times 4 to 128 px on
+# each scene (docs/study.md); larger cells gain little at game scale and lose in storms.
 DEFAULT_CELL = 32
 FEW_MOVES = 8  # bodies in the move buffer up to which a body keeps a larger range
 CellRange = tuple[int, int, int, int]
@@ -30,7 +37,7 @@ def checked_cell(cell: int) -> int:
     return cell
 
 
-class Grid:
+class Grid(BroadPhase):
     """Uniform grid, one layer of cells per kind, so a probe only meets kinds it may hit.
 
     In each rule side `a` probes the layer of kind `b`; kinds that are never looked up are
@@ -92,22 +99,11 @@ class Grid:
                     del ranges[body.id]
                     changed = True
                 continue
-            x0 = body.x
-            y0 = body.y
-            x1 = x0 + body.w
-            y1 = y0 + body.h
             if body.moved_tick == tick and body.kind in swept:
-                # Its box over the tick (body.tick_box), inlined: the hot path.
-                px = body.px
-                py = body.py
-                if px < x0:
-                    x0 = px
-                elif px + body.w > x1:
-                    x1 = px + body.w
-                if py < y0:
-                    y0 = py
-                elif py + body.h > y1:
-                    y1 = py + body.h
+                x0, y0, x1, y1 = tick_box(body, tick)
+            else:  # where it is: tick_box's answer, without the call (most drained bodies)
+                x0, y0 = body.x, body.y
+                x1, y1 = x0 + body.w, y0 + body.h
             cx0 = x0 // c
             cy0 = y0 // c
             cx1 = (x1 - 1) // c

@@ -17,25 +17,16 @@ from __future__ import annotations
 
 import struct
 from collections.abc import Sequence
-from typing import Protocol
 
 import numpy as np
 
 from invaders.engine.body import NOWHERE, Body
-from invaders.engine.broadphase import Group, KindSets, Pair, Scene
+from invaders.engine.broadphase import BroadPhase, Group, KindSets, Pair, Scene, ZoneTest
 from invaders.engine.grid import DEFAULT_CELL, checked_cell
 
 STRIDE = 1 << 21  # cell key = cy * STRIDE + cx, with cells offset to be non-negative
 OFFSET = 1 << 20
 BEYOND = np.iinfo(np.int64).max  # no cell's key
-
-
-class ZoneTest(Protocol):
-    """A zone as the detector indexes it: its boxes, and the exact test of one body."""
-
-    zone: tuple[tuple[int, int, int, int], ...]
-
-    def holds(self, body: Body, tick: int) -> bool: ...
 
 
 class Boxes:
@@ -217,7 +208,7 @@ def box_pairs(a: np.ndarray, b: np.ndarray, cell: int,
     return i, j
 
 
-class NumpyGrid:
+class NumpyGrid(BroadPhase):
     """Broad phase for big scenes: numpy arrays of boxes, cells joined by sorting."""
 
     name = "numpy"

@@ -1,9 +1,10 @@
-"""Rect, mask and swept predicates: the one place that computes mask offsets.
+"""Rect, mask and swept predicates: the pixel tests the detector and the oracle share.
 
 pygame's `Mask.overlap(other, offset)` places `other`'s top-left corner at `offset` from the
 caller's top-left and returns the first overlapping pixel in the caller's coordinates, or None.
-Every pixel test here goes through `mask_offset`, so the convention is pinned in one spot
-(`tests/test_predicates.py` pins it against pygame itself).
+Two placed masks are compared through `masks_overlap` (via `mask_offset`); a walk along a
+motion passes offsets from the fixed side's corner directly (`first_swept_contact`).
+`tests/test_predicates.py` pins the convention against pygame itself.
 """
 
 from __future__ import annotations
@@ -63,7 +64,6 @@ def round_div(num: int, den: int) -> int:
 
 
 _swept_cache: dict[tuple[pygame.mask.Mask, int, int], pygame.mask.Mask] = {}
-kept_swept_mask = _swept_cache.get  # (mask, dx, dy) -> swept mask or None: hot paths look first
 
 
 def swept_mask(mask: pygame.mask.Mask, dx: int, dy: int) -> pygame.mask.Mask:

@@ -18,8 +18,8 @@ from operator import attrgetter
 
 import pygame
 
-from invaders.engine.body import NOWHERE, Body
-from invaders.engine.broadphase import Group, KindSets, Pair, Scene, pair_key
+from invaders.engine.body import NOWHERE, Body, tick_box
+from invaders.engine.broadphase import BroadPhase, Group, KindSets, Pair, Scene, pair_key
 from invaders.engine.grid import DEFAULT_CELL, FEW_MOVES, checked_cell
 from invaders.engine.rules import PairRule
 
@@ -31,7 +31,7 @@ Ready = tuple[PairRule, Sequence[Body], Sequence[Body], int, int, list[pygame.Re
               list[pygame.Rect]]
 
 
-class CellRects:
+class CellRects(BroadPhase):
     """Per kind, its live bodies in id order and beside them their cells' rects."""
 
     name = "rects"
@@ -76,22 +76,11 @@ class CellRects:
                 if rect is not None:
                     self._forget(body)
                 continue
-            x0 = body.x
-            y0 = body.y
-            x1 = x0 + body.w
-            y1 = y0 + body.h
             if body.moved_tick == tick and body.kind in swept:
-                # Its box over the tick (body.tick_box), inlined: the hot path.
-                px = body.px
-                if px < x0:
-                    x0 = px
-                elif px > x0:
-                    x1 = px + body.w
-                py = body.py
-                if py < y0:
-                    y0 = py
-                elif py > y0:
-                    y1 = py + body.h
+                x0, y0, x1, y1 = tick_box(body, tick)
+            else:  # where it is: tick_box's answer, without the call (most drained bodies)
+                x0, y0 = body.x, body.y
+                x1, y1 = x0 + body.w, y0 + body.h
             # The cells' box (never inside out: a box of no width still has its left edge).
             fx0 = x0 // c * c
             fy0 = y0 // c * c

@@ -14,8 +14,9 @@ from collections.abc import Iterable, Mapping
 from fractions import Fraction
 from typing import Any, NamedTuple
 
+from invaders.engine.adaptive import DEFAULT_BROADPHASE, make_broadphase
 from invaders.engine.body import Body
-from invaders.engine.detector import DEFAULT_BROADPHASE, Detector, make_broadphase
+from invaders.engine.detector import Detector
 from invaders.engine.grid import DEFAULT_CELL
 from invaders.engine.predicates import solid_mask
 from invaders.engine.response import first_contacts
@@ -84,10 +85,8 @@ class SpriteCollider:
         known = self._bodies.get(key)
         if known is None:
             body = Body(store.new_id(), kind, rect.x, rect.y, mask)
-            if last is not None and (last.x, last.y) != (rect.x, rect.y):
-                body.px, body.py, body.moved_tick = last.x, last.y, store.tick
             self._bodies[key] = (sprite, body)
-            store.add(body)
+            store.add(body, None if last is None else (last.x, last.y))
             return
         body = known[1]
         if body.mask is not mask:

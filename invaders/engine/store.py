@@ -66,8 +66,13 @@ class BodyStore:
         self.next_id += 1
         return body_id
 
-    def add(self, body: Body) -> None:
-        """A body appears (or comes back) this tick."""
+    def add(self, body: Body, start: tuple[int, int] | None = None) -> None:
+        """A body appears (or comes back) this tick; with `start`, it moved there from that
+        point during the tick (a sprite first seen with its last place, a frame played
+        back)."""
+        if start is not None and start != (body.x, body.y):
+            body.px, body.py = start
+            body.moved_tick = self.tick
         body.alive = True
         body.shaped_tick = self.tick
         body.fence = NOWHERE  # until the broad phase gives it one
@@ -82,6 +87,14 @@ class BodyStore:
         self.by_id[body.id] = body
         if self._buffer is not None:
             self._buffer.append(body)
+
+    def place(self, body: Body, x: int, y: int) -> None:
+        """Put a body that is not in the store at (x, y), where it stays until added (one
+        in the store moves with `move`, so that the broad phase hears of it)."""
+        if body.alive and self.by_id.get(body.id) is body:
+            raise ValueError(f"body {body.id} is in the store: move it instead")
+        body.x = body.px = x
+        body.y = body.py = y
 
     def move(self, body: Body, x: int, y: int) -> None:
         """Move a body; the first move of a tick remembers where it started. The broad
@@ -146,9 +159,6 @@ class BodyStore:
         del self.by_id[body.id]
         if self._buffer is not None:
             self._buffer.append(body)
-
-    def count(self) -> int:
-        return self.size
 
 
 _gains: dict[tuple[pygame.mask.Mask, pygame.mask.Mask], bool] = {}

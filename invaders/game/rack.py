@@ -122,7 +122,3 @@ class Rack:
                 right = max(right, cell * alien.col + hi)
             self._extent = (left, right)
         return self.ref_x + self._extent[0], self.ref_x + self._extent[1]
-
-    def lowest_top(self) -> int:
-        """Row of the lowest live alien's picture top (for the invasion test and zones)."""
-        return max((a.top for a in self.aliens if a is not None), default=0)

@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from invaders import __version__
-from invaders.engine.detector import DEFAULT_BROADPHASE
+from invaders.engine.adaptive import DEFAULT_BROADPHASE
 from invaders.game.actions import ALL_ACTIONS
 from invaders.game.config import ConfigError, GameConfig
 from invaders.game.kinds import THINGS

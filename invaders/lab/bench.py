@@ -34,8 +34,9 @@ import sys
 import time
 from collections.abc import Sequence
 
+from invaders.engine.adaptive import DEFAULT_BROADPHASE, make_broadphase
 from invaders.engine.broadphase import Pair, Scene
-from invaders.engine.detector import DEFAULT_BROADPHASE, Detector, make_broadphase
+from invaders.engine.detector import Detector
 from invaders.engine.stats import CollisionStats, Contact
 from invaders.game.actions import Action
 from invaders.game.replay import Checkpoint, Replay

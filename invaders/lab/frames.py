@@ -55,16 +55,11 @@ class FrameScene:
                 seen.add(body_id)
                 body = by_id.get(body_id)
                 if body is None:
-                    body = Body(body_id, kind, x, y, mask)
-                    if moved == frame.tick:
-                        body.px, body.py, body.moved_tick = px, py, moved
-                    store.add(body)
+                    store.add(Body(body_id, kind, x, y, mask),
+                              (px, py) if moved == frame.tick else None)
                     continue
                 if body.mask is not mask:
-                    if kind is Kind.BUNKER:
-                        body.mask = mask  # a copy of the eroded shield: it only lost pixels
-                    else:
-                        store.reshape(body, mask)
+                    store.reshape(body, mask)
                 start = (px, py) if moved == frame.tick else (x, y)
                 if (body.x, body.y) != (x, y) or body.start_of_tick(frame.tick) != start:
                     store.move_from(body, *start, x, y)

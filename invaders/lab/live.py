@@ -20,7 +20,8 @@ from dataclasses import dataclass
 from statistics import median
 from typing import Any
 
-from invaders.engine.detector import Detector, make_broadphase
+from invaders.engine.adaptive import make_broadphase
+from invaders.engine.detector import Detector
 from invaders.engine.grid import DEFAULT_CELL
 from invaders.engine.response import first_contacts
 from invaders.engine.rules import RuleTable

@@ -13,7 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-from invaders.engine.detector import Detector, make_broadphase
+from invaders.engine.adaptive import make_broadphase
+from invaders.engine.detector import Detector
 from invaders.engine.grid import DEFAULT_CELL
 from invaders.engine.rules import Motion, RuleTable, Shape
 from invaders.game.config import DEFAULT_CONFIG, GameConfig

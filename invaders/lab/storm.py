@@ -130,4 +130,4 @@ class Storm:
 
     @property
     def count(self) -> int:
-        return self.store.count()
+        return self.store.size
