@@ -9,11 +9,12 @@ from fractions import Fraction
 import pytest
 
 from invaders.game.config import DEFAULT_CONFIG
-from invaders.game.entities import EDGE_DEPTH, Bomb, BombType, Saucer, Shot
+from invaders.game.entities import MOVES_BETWEEN_LOOKS, Bomb, BombType, Saucer, Shot, edge_depth
 from invaders.game.events import Event
 from invaders.game.kinds import Kind
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
+from invaders.lab.choices import MULTIPLIERS, SAMPLINGS
 from invaders.lab.live import Choice, at_speed, install
 from tests.helpers import active_world
 
@@ -32,8 +33,9 @@ def test_the_edges_are_boxes_from_their_lines_deeper_than_any_move_between_looks
     (top,), (ground,) = world.bodies(Kind.TOP), world.bodies(Kind.GROUND)
     assert (top.x, top.y + top.h, top.w) == (0, G.shot_top_limit + 1, 224)
     assert (ground.x, ground.y, ground.w) == (0, G.bomb_ground_top + 8 - 1, 224)
-    fastest = 128 * 16 * 8  # the config's top speed, at the lab's 16x, detected every 8th
-    assert top.h == ground.h == EDGE_DEPTH >= fastest
+    assert max(MULTIPLIERS) * max(SAMPLINGS) == MOVES_BETWEEN_LOOKS  # the lab's limits
+    farthest = MOVES_BETWEEN_LOOKS * DEFAULT_CONFIG.speeds.bomb_fast  # 16x, every 8th tick
+    assert top.h == ground.h == edge_depth(DEFAULT_CONFIG) >= farthest
     assert top.id < ground.id < 1 <= min(b.id for b in world.store.by_id.values()
                                          if b.kind not in (Kind.TOP, Kind.GROUND))
     assert "top" not in world.kind_counts() and "ground" not in world.kind_counts()

@@ -286,3 +286,12 @@ def test_the_bench_times_ours_and_groupcollide_by_turns_and_each_finds_the_games
     pairs = [{(c.a_id, c.b_id) for c in frame.contacts} for frame in frames]
     assert theirs["naive"] == theirs["careful"] == pairs
     assert any(pairs)
+
+
+def test_the_labs_broad_phases_are_the_engines_and_the_cell_applies_where_it_is_used():
+    from invaders.engine.adaptive import BROADPHASES, DEFAULT_BROADPHASE
+    from invaders.lab.choices import BROADS, CELLED
+
+    assert BROADS == BROADPHASES and BROADS[0] == DEFAULT_BROADPHASE
+    for name in BROADS:
+        assert (make_broadphase(name, 48).cell == 48) == (name in CELLED), name

@@ -10,7 +10,7 @@ import pygame
 from invaders.engine.body import Body
 from invaders.engine.predicates import solid_mask
 from invaders.game import art
-from invaders.game.config import SCREEN_W, GameConfig
+from invaders.game.config import SCREEN_H, SCREEN_W, GameConfig
 from invaders.game.kinds import Kind
 
 
@@ -118,16 +118,17 @@ class Saucer(Body):
         self.dx = dx
 
 
-# How far an edge reaches past its line: farther than any projectile moves between two
-# looks (128 px a tick, the config's most, at 16 times the speed over 8 ticks), so one that
-# crossed the line is inside the edge at the next look, however it was sampled.
-EDGE_DEPTH = 128 * 16 * 8
+# How many of its own moves a projectile may make between two looks of a detector: 16
+# times its speed, looked at every 8th tick (the lab's limits; a test holds them to this).
+MOVES_BETWEEN_LOOKS = 16 * 8
 
 
 class Edge(Body):
-    """A playfield edge as a static box: its line, and EDGE_DEPTH px beyond it. Edges take
-    the ids below every thing's (things count from 1), so at an equal time of contact the
-    edge comes first, as the original tests the top and the ground before it draws."""
+    """A playfield edge as a static box: its line, and beyond it farther than a projectile
+    can go between two looks, so that one that crossed the line is inside the edge at the
+    next look, however sparsely it looks. Edges take the ids below every thing's (things
+    count from 1), so at an equal time of contact the edge comes first, as the original
+    tests the top and the ground before it draws."""
 
     __slots__ = ()
 
@@ -135,13 +136,21 @@ class Edge(Body):
         super().__init__(body_id, kind, 0, y, solid_mask(SCREEN_W, h))
 
 
+def edge_depth(config: GameConfig) -> int:
+    """How far the edges reach past their lines: the screen's height, and as far again as
+    the fastest projectile goes between two looks."""
+    s = config.speeds
+    return SCREEN_H + MOVES_BETWEEN_LOOKS * max(s.shot, s.bomb, s.bomb_fast)
+
+
 def edges(config: GameConfig) -> tuple[Edge, Edge]:
     """The top limit (the shot bursts once its top row reaches `shot_top_limit`) and the
     ground (a bomb bursts once its top row reaches `bomb_ground_top`, that is once its
     bottom row reaches that row plus its height less one)."""
     g = config.geometry
-    top = Edge(-2, Kind.TOP, g.shot_top_limit + 1 - EDGE_DEPTH, EDGE_DEPTH)
-    ground = Edge(-1, Kind.GROUND, g.bomb_ground_top + BOMB_H - 1, EDGE_DEPTH)
+    depth = edge_depth(config)
+    top = Edge(-2, Kind.TOP, g.shot_top_limit + 1 - depth, depth)
+    ground = Edge(-1, Kind.GROUND, g.bomb_ground_top + BOMB_H - 1, depth)
     return top, ground
 
 

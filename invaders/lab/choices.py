@@ -2,7 +2,9 @@
 method matrix, the live lab and the command line share (light enough for the command line
 to offer them without loading the lab)."""
 
-BROADS = ("auto", "rects", "grid", "numpy", "brute", "sweep")
+from invaders.engine.adaptive import BROADPHASES
+
+BROADS = BROADPHASES  # the engine's, the game's own first
 CELLED = ("auto", "rects", "grid", "numpy")  # the broad phases a cell size applies to
 CELLS = (4, 8, 16, 32, 64, 128)
 QUICK_TESTS = ("rect", "circle")
