@@ -56,12 +56,25 @@ def test_the_hash_depends_on_the_seed_only_not_on_the_broad_phase(capsys):
     assert last("--seed", "8") != grid
 
 
-def test_the_summary_names_the_pipeline_steps(capsys):
-    code, out, _ = _run(capsys, "run", "--ticks", "600", "--seed", "1", "--autopilot")
+def test_the_summary_totals_and_medians_are_the_reports_columns(capsys, tmp_path):
+    """Each pipeline step's line in the summary gives the total and the median of that
+    counter over the run's report, tick by tick."""
+    report = tmp_path / "r.csv"
+    code, out, _ = _run(capsys, "run", "--ticks", "600", "--seed", "1", "--autopilot",
+                        "--report", str(report))
     assert code == 0
-    for label in ("naive pairs", "rules allow", "broad phase", "rect tests", "mask tests",
-                  "swept tests", "contacts", "score", "aliens killed"):
-        assert label in out
+    with report.open() as handle:
+        rows = list(csv.DictReader(handle))
+    steps = {"objects": "objects", "naive pairs n(n-1)/2": "naive_pairs",
+             "1 reduce: rules allow": "allowed_pairs", "1 reduce: broad phase": "candidates",
+             "2 quick: rect tests": "rect_tests", "2 quick: rect hits": "rect_hits",
+             "3 thorough: mask tests": "mask_tests", "3 thorough: mask hits": "mask_hits",
+             "3 thorough: swept tests": "swept_tests", "4 respond: contacts": "contacts"}
+    for label, column in steps.items():
+        (line,) = [ln for ln in out.splitlines() if ln.strip().startswith(label)]
+        total, median = line[len(label) + 2:].split()
+        values = [int(row[column]) for row in rows]
+        assert (int(total), float(median)) == (sum(values), statistics.median(values)), label
 
 
 def test_a_jsonl_report_has_one_object_per_tick(tmp_path, capsys):
@@ -143,10 +156,14 @@ def test_bench_against_ale_without_the_compare_extra_says_how_to_get_it(monkeypa
 
 
 def test_the_bare_step_loop_and_ale_share_one_input_cycle_that_plays_the_game():
+    from invaders.game.events import Event
     from invaders.game.world import World
     from invaders.lab.ale import CYCLE
 
     world = World(seed=7)
+    places, fired = set(), 0
     for i in range(1800):
-        world.step(CYCLE[i % len(CYCLE)])
-    assert world.aliens_killed > 0  # the cycle fires and moves: it plays, not idles
+        fired += Event.SHOT_FIRED in world.step(CYCLE[i % len(CYCLE)]).events
+        places.add(world.cannon.x)
+    # it moves both ways across the field and fires: it plays, not idles
+    assert max(places) - min(places) >= 15 and fired > 20 and world.aliens_killed > 10

@@ -46,11 +46,23 @@ def test_drawing_with_the_overlay_does_not_change_the_world():
 
 
 def test_screenshot_writes_a_png_of_the_scaled_window(tmp_path, capsys):
+    """The file is the window's picture of the game after those ticks, pixel for pixel:
+    the same as the renderer draws of a world played as far by the autopilot."""
+    from invaders.game.world import World
+    from invaders.lab.autopilot import Autopilot
+
     path = tmp_path / "shot.png"
-    assert main(["play", "--screenshot", str(path), "--ticks", "300", "--scale", "2"]) == 0
+    assert main(["play", "--screenshot", str(path), "--ticks", "300", "--scale", "2",
+                 "--seed", "4"]) == 0
     image = pygame.image.load(str(path))
     assert image.get_size() == (448, 512)
     assert not list(tmp_path.glob(".*"))
+    world, pilot = World(seed=4), Autopilot(4)
+    for _ in range(300):
+        world.step(pilot.actions(world))
+    expected = pygame.Surface((448, 512))
+    Renderer(2).draw(expected, world)
+    assert pygame.image.tobytes(image, "RGB") == pygame.image.tobytes(expected, "RGB")
 
 
 def test_the_score_bar_is_the_originals_and_the_high_score_waits_for_game_over():

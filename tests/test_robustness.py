@@ -13,7 +13,6 @@ import statistics
 import subprocess
 import sys
 import textwrap
-import time
 from collections import Counter
 from pathlib import Path
 
@@ -106,16 +105,27 @@ def test_a_picture_must_be_a_png(capsys, tmp_path):
 
 
 @pytest.mark.parametrize("kind", ["pipe", "device-link"])
-def test_a_pipe_or_a_device_is_refused_at_once_not_read(capsys, tmp_path, kind):
+def test_a_pipe_or_a_device_is_refused_at_once_not_read(capsys, tmp_path, monkeypatch, kind):
+    """Refused before it is opened: opening the pipe for reading would block forever, and
+    reading the device would never end."""
+    import builtins
+    import io
+
     path = tmp_path / "game.json"
     if kind == "pipe":
-        os.mkfifo(path)  # opening it for reading would block forever
+        os.mkfifo(path)
     else:
-        path.symlink_to("/dev/zero")  # reading it would never end
-    start = time.monotonic()
+        path.symlink_to("/dev/zero")
+    opened = []
+    for module, name in ((builtins, "open"), (io, "open"), (os, "open")):
+        real = getattr(module, name)
+        monkeypatch.setattr(module, name, lambda file, *a, real=real, **k:
+                            opened.append(str(file)) or real(file, *a, **k))
     assert main(["replay", str(path)]) == 2
     assert "not a regular file" in capsys.readouterr().err
-    assert time.monotonic() - start < 5
+    assert str(path) not in opened
+    regular = ROOT / "replays" / "saucer-300.json"
+    assert main(["replay", str(regular)]) == 0 and str(regular) in opened  # (the spy sees)
 
 
 def test_a_file_name_too_long_is_one_line(capsys):
@@ -149,27 +159,34 @@ def test_an_internal_error_names_the_replay_being_checked(capsys, monkeypatch):
     assert f"while processing {path}: ZeroDivisionError: boom" in capsys.readouterr().err
 
 
-SIGNALS = [(signal.SIGINT, 130), (signal.SIGTERM, 143), (signal.SIGHUP, 129)]
+SIGNALS = [(signal.SIGINT, 130, 1234), (signal.SIGTERM, 143, 2345), (signal.SIGHUP, 129, 777)]
 
 
-@pytest.mark.parametrize("signum, code", SIGNALS, ids=lambda v: str(v))
-def test_a_signal_stops_a_recording_run_on_a_whole_tick_and_saves_it(tmp_path, signum, code):
-    rng = random.Random(signum)
-    for attempt in range(2):
-        path = tmp_path / f"run{attempt}.json"
-        proc = subprocess.Popen([INVADERS, "run", "--autopilot", "--ticks", "100000000",
-                                 "--record", str(path)], env=ENV, stdout=subprocess.PIPE,
-                                stderr=subprocess.PIPE, text=True)
-        time.sleep(1.0 + rng.random() * 1.5)  # a random moment, well into the game
-        proc.send_signal(signum)
-        _, err = proc.communicate(timeout=60)
-        assert proc.returncode == code, err
-        assert f"saved {path}" in err and len(err.strip().splitlines()) == 1
-        replay = load(path)
-        assert replay.ticks > 0
-        assert run(replay)[0].mismatch is None
-        assert main(["replay", str(path)]) == 0
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["run0.json", "run1.json"]
+@pytest.mark.parametrize("signum, code, at", SIGNALS, ids=lambda v: str(v))
+def test_a_signal_stops_a_recording_run_on_a_whole_tick_and_saves_it(
+        tmp_path, capsys, monkeypatch, signum, code, at):
+    """The signal arrives while tick `at` is being played (the autopilot sends it, well into
+    the game and between two saves): that tick is finished, the run stops before the next,
+    and the recording holds exactly the ticks played, as a replay that checks."""
+    from invaders.lab.autopilot import Autopilot
+
+    plays = Autopilot.actions
+
+    def actions(self, world):
+        if world.tick == at:
+            os.kill(os.getpid(), signum)
+        return plays(self, world)
+
+    monkeypatch.setattr(Autopilot, "actions", actions)
+    path = tmp_path / "run.json"
+    assert main(["run", "--autopilot", "--ticks", "100000000", "--record", str(path)]) == code
+    name = signal.Signals(signum).name
+    assert capsys.readouterr().err.splitlines() == [
+        f"invaders: stopped by {name} at tick {at + 1}; saved {path} ({at + 1} ticks)"]
+    replay = load(path)
+    assert replay.ticks == at + 1
+    assert run(replay)[0].mismatch is None
+    assert [p.name for p in tmp_path.iterdir()] == ["run.json"]
 
 
 def test_a_stale_temporary_file_is_cleaned_at_the_next_save(tmp_path):
@@ -240,14 +257,12 @@ def test_hostile_files_are_refused_in_bounded_time_and_memory(tmp_path):
         from invaders.app.cli import main
         sys.exit(main(["replay", *sys.argv[1:]]))
     """)
-    for name in files:
-        start = time.monotonic()
+    for name in files:  # (the timeout only stops a hang; it measures nothing)
         result = subprocess.run([sys.executable, "-c", limit, str(tmp_path / name)],
-                                capture_output=True, text=True, timeout=60, env=ENV,
+                                capture_output=True, text=True, timeout=120, env=ENV,
                                 check=False)
         assert result.returncode == 2, (name, result.stderr[-300:])
         assert len(result.stderr.strip().splitlines()) == 1, (name, result.stderr[-300:])
-        assert time.monotonic() - start < 30, name
     assert Counter(p.suffix for p in tmp_path.iterdir()) == {".json": 4}
 
 
@@ -276,16 +291,39 @@ def test_saving_a_recording_costs_the_same_late_in_a_game_as_early(tmp_path):
     assert run(load(path))[0].mismatch is None
 
 
-def test_a_signal_ends_a_recorded_window_game_with_its_code_and_a_valid_file(tmp_path):
+def test_a_signal_ends_a_recorded_window_game_with_its_code_and_a_valid_file(
+        tmp_path, capsys, monkeypatch):
+    """A window game on a clock the test moves (a 60th of a second a frame) and a player
+    who fires, with SIGTERM arriving at frame 400: the game ends with 143, saved on a whole
+    tick (past two autosaves), and the file replays."""
+    import types
+
+    import pygame
+
+    import invaders.app.play as play_module
+
+    now = [0.0]
+    frames = [0]
+
+    def events():
+        frames[0] += 1
+        now[0] += 1 / 60
+        if frames[0] == 400:
+            os.kill(os.getpid(), signal.SIGTERM)
+        key = pygame.KEYDOWN if frames[0] % 20 == 0 else pygame.KEYUP
+        return [pygame.event.Event(key, key=pygame.K_SPACE, mod=0, unicode=" ", scancode=0)]
+
+    class Paced:  # pygame's frame pacing, without waiting
+        def tick(self, fps: int = 0) -> int:
+            return 0
+
+    monkeypatch.setattr(play_module, "time", types.SimpleNamespace(perf_counter=lambda: now[0]))
+    monkeypatch.setattr(pygame.event, "get", events)
+    monkeypatch.setattr(pygame.time, "Clock", Paced)
     path = tmp_path / "played.json"
-    proc = subprocess.Popen([INVADERS, "play", "--record", str(path), "--seed", "3"],
-                            env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    deadline = time.monotonic() + 60
-    while not (path.exists() and path.read_text().count("\n") >= 4):  # 3 checkpoints saved
-        assert time.monotonic() < deadline, "the recording never started"
-        time.sleep(0.2)
-    proc.send_signal(signal.SIGTERM)
-    out, err = proc.communicate(timeout=60)
-    assert proc.returncode == 143, err
+    assert main(["play", "--record", str(path), "--seed", "3"]) == 143
+    out, err = capsys.readouterr()
     assert f"saved {path}" in out and "stopped by SIGTERM" in err
-    assert run(load(path))[0].mismatch is None
+    replay = load(path)
+    assert 360 < replay.ticks <= 400 and run(replay)[0].mismatch is None
+    assert sum(1 for bits, n in replay.inputs if bits & 4 for _ in range(n)) > 0  # it fired

@@ -72,9 +72,15 @@ def test_the_charts_are_drawn(serial_rows, tmp_path):
                     tmp_path / "b.png", "counters")
     charts.scaling({"ours": [(100, 150.0), (1000, 1300.0)],
                     "brute": [(100, 1500.0), (1000, 160000.0)]}, tmp_path / "c.png")
-    for name in "abc":
+    def colours(name: str) -> set[tuple[int, int, int]]:
         image = pygame.image.load(str(tmp_path / f"{name}.png"))
-        assert image.get_width() > 400 and image.get_height() > 300
+        return {tuple(image.get_at((x, y)))[:3] for x in range(0, image.get_width(), 2)
+                for y in range(0, image.get_height(), 2)}
+
+    green, red, grey = (0x2C, 0xA0, 0x2C), (0xD6, 0x27, 0x28), (0x88, 0x99, 0xAA)
+    assert {green, red, grey} <= colours("a")  # the default's star, the front, the methods
+    blue, orange = (0x1F, 0x77, 0xB4), (0xFF, 0x7F, 0x0E)  # matplotlib's first two lines
+    assert {blue, orange} <= colours("b") and {blue, orange} <= colours("c")
 
 
 def test_the_pareto_front_keeps_only_points_nothing_beats():
