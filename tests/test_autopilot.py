@@ -7,6 +7,7 @@ from types import SimpleNamespace
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from invaders.game.config import DEFAULT_CONFIG
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot, ShieldColumns
 
@@ -25,7 +26,7 @@ def test_the_target_is_the_first_alien_in_the_clear_then_lowest_then_nearest(pla
     pilot = Autopilot(0)
     pilot._columns = SimpleNamespace(shooters=lambda world, which: targets)
     pilot._shields = SimpleNamespace(edges=lambda world: frozenset(x - 8 for x in lit))
-    world = SimpleNamespace(saucer=SimpleNamespace(saucer=None),
+    world = SimpleNamespace(saucer=SimpleNamespace(saucer=None), config=DEFAULT_CONFIG,
                             cannon=SimpleNamespace(x=centre - 8))
     first = min(range(len(targets)), key=lambda i: (
         targets[i].x + 8 in lit, -targets[i].y, abs(targets[i].x + 8 - centre), i))
@@ -40,7 +41,8 @@ def test_the_target_follows_the_cannon_and_an_alien_that_dropped():
     pilot._columns = SimpleNamespace(shooters=lambda world, which: targets)
     pilot._shields = SimpleNamespace(edges=lambda world: frozenset({200}))
     cannon = SimpleNamespace(x=0)
-    world = SimpleNamespace(saucer=SimpleNamespace(saucer=None), cannon=cannon)
+    world = SimpleNamespace(saucer=SimpleNamespace(saucer=None), config=DEFAULT_CONFIG,
+                            cannon=cannon)
     assert pilot._find_target(world) == 8  # nearest the cannon at the left
     cannon.x = 40
     assert pilot._find_target(world) == 40  # x 32 and 48 as near: the first

@@ -11,7 +11,7 @@ import pytest
 from invaders.game import saucer
 from invaders.game.actions import Action
 from invaders.game.config import ConfigError, GameConfig, Geometry, Rules, Speeds
-from invaders.game.entities import Bomb, BombType, CannonState
+from invaders.game.entities import Blast, Bomb, BombType, CannonState
 from invaders.game.events import Event
 from invaders.game.kinds import Kind
 from invaders.game.world import World
@@ -95,13 +95,49 @@ def _shot_after_firing(world: World):
     return world.shot
 
 
-def _shot_burst_top(world: World) -> int:
-    """Fired from the cannon's first place, left of every shield and lit alien pixel: the
-    top row at which it bursts."""
+def _shot_burst(world: World) -> tuple[int, int]:
+    """Fired from the cannon's first place, left of every shield and lit alien pixel: where
+    its burst was drawn, from the shot's column and the top limit."""
     x = _shot_after_firing(world).x
     step_until(world, lambda r: Event.SHOT_BURST in r.events, limit=100)
-    burst = [e for e in world.explosions if e.x == x - 3][-1]
-    return burst.y + 2
+    (burst,) = [e for e in world.explosions if e.blast is Blast.SHOT]
+    return burst.x - x, burst.y - world.config.geometry.shot_top_limit
+
+
+def _shot_burst_top(world: World) -> int:
+    """The top row at which the shot bursts (its burst drawn 2 rows above it)."""
+    _, dy = _shot_burst(world)
+    return world.config.geometry.shot_top_limit + dy + 2
+
+
+def _bomb_on_a_shield(world: World) -> tuple[int, int]:
+    """A bomb dropped onto the first shield: where its burst was drawn, from where it was."""
+    active(world)
+    bunker = world.bunkers[0]
+    slot = world.slots[BombType.PLUNGER]
+    bomb = Bomb(world.store.new_id(), BombType.PLUNGER, bunker.x + 9, bunker.y - 30)
+    world.store.add(bomb)
+    slot.bomb = bomb
+    step_until(world, lambda r: slot.bomb is None, limit=400)
+    return slot.burst_x - bomb.x, slot.burst_y - bomb.y
+
+
+def _bomb_dropped(world: World) -> tuple[int, int]:
+    """The first bomb the rack fires: where it starts, from the x and the top of the lowest
+    alien of the column it starts in."""
+    step_until(world, lambda r: Event.BOMB_FIRED in r.events, limit=3000)
+    (bomb,) = [s.bomb for s in world.slots if s.bomb is not None]
+    cell = world.config.geometry.cell
+    lowest = [world.rack.lowest_in_column(c) for c in range(world.config.geometry.cols)]
+    (shooter,) = [a for a in lowest if a is not None and a.x <= bomb.x < a.x + cell]
+    return bomb.x - shooter.x, bomb.y - shooter.top
+
+
+def _ground_burst(world: World) -> tuple[int, int]:
+    """A bomb dropped down an empty column: its burst, from its column and the ground row."""
+    slot = world.slots[BombType.PLUNGER]
+    _dropped_bomb_burst(world)
+    return slot.burst_x - 4, slot.burst_y - world.config.geometry.ground_row
 
 
 CHECKS: dict[str, tuple[int, Callable[[World], object], Callable[[int], object]]] = {
@@ -126,6 +162,11 @@ CHECKS: dict[str, tuple[int, Callable[[World], object], Callable[[int], object]]
     "ground_row": (235, lambda w: _dropped_bomb_burst(w)[0], lambda v: v - 7),
     "shot_spawn_top": (200, lambda w: _shot_after_firing(w).y, lambda v: v),
     "shot_top_limit": (60, _shot_burst_top, lambda v: range(v - 3, v + 1)),
+    "cannon_centre": (5, lambda w: _shot_after_firing(w).x - w.cannon.x, lambda v: v),
+    "shot_burst_offset": ((-1, -4), _shot_burst, tuple),
+    "bomb_burst_offset": ((0, 5), _bomb_on_a_shield, tuple),
+    "ground_burst_offset": ((1, -5), _ground_burst, tuple),
+    "bomb_drop_offset": ((3, 12), _bomb_dropped, tuple),
     "invasion_top": (144, lambda w: step_until(
         w, lambda r: Event.INVASION in r.events or w.tick > 2000, limit=3000).tick,
         lambda v: range(128, 2000)),  # the default invades far later

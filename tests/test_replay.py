@@ -342,7 +342,8 @@ def test_a_file_from_before_the_saucer_fields_loads_with_the_values_once_hard_co
     data = _version_1(load(Path(__file__).resolve().parents[1] / "replays" /
                            "cannon-death.json"))
     for name in ("saucer_start_left", "saucer_start_right", "saucer_exit_left",
-                 "saucer_exit_right"):
+                 "saucer_exit_right", "cannon_centre", "bomb_drop_offset",
+                 "shot_burst_offset", "bomb_burst_offset", "ground_burst_offset"):
         del data["config"]["geometry"][name]
     path = tmp_path / "old.json"
     path.write_text(json.dumps(data))

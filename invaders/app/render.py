@@ -20,6 +20,7 @@ from invaders.engine.stats import CollisionStats, Contact
 from invaders.game import art
 from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.entities import BOMB_PICTURES, CannonState
+from invaders.game.kinds import EDGES, Kind
 from invaders.game.world import Phase, TickReport, World
 
 WHITE = (255, 255, 255, 255)
@@ -28,7 +29,7 @@ RED_GEL = (255, 64, 64)
 GREEN_GEL = (64, 255, 64)
 GRID_COLOUR = (60, 90, 160)
 PAIR_COLOUR = (255, 220, 0)
-PLAYFIELD_ROWS = (32, 239)  # between the score bar and the ground line
+SCORE_BAR_ROWS = 32  # the score bar's rows, above the playfield
 OVERLAY_TEXT_PX = 14  # the overlay's text is never smaller than this, whatever the scale
 CONTACT_COLOUR = (255, 0, 255)
 
@@ -175,24 +176,34 @@ class Renderer:
                       report: TickReport | None, pairs: Sequence[tuple[int, int]]) -> None:
         """Cells, candidate pairs and counters, at the window's resolution; the lines stay
         in the playfield's rows, off the score bar and the bottom line."""
-        top, bottom = view.to_window(0, PLAYFIELD_ROWS[0])[1], view.to_window(
-            0, PLAYFIELD_ROWS[1])[1]
+        ground = world.config.geometry.ground_row
+        top, bottom = view.to_window(0, SCORE_BAR_ROWS)[1], view.to_window(0, ground)[1]
         if report is not None and report.cell:
             for x in range(0, SCREEN_W + 1, report.cell):
                 wx = view.to_window(x, 0)[0]
                 pygame.draw.line(target, GRID_COLOUR, (wx, top), (wx, bottom))
-            first = -(-PLAYFIELD_ROWS[0] // report.cell) * report.cell
-            for y in range(first, PLAYFIELD_ROWS[1] + 1, report.cell):
+            first = -(-SCORE_BAR_ROWS // report.cell) * report.cell
+            for y in range(first, ground + 1, report.cell):
                 wy = view.to_window(0, y)[1]
                 pygame.draw.line(target, GRID_COLOUR, (view.x, wy),
                                  (view.to_window(SCREEN_W, 0)[0], wy))
         by_id = world.store.by_id
         for a_id, b_id in pairs:
             a, b = by_id.get(a_id), by_id.get(b_id)
-            if a is not None and b is not None:
-                pygame.draw.line(target, PAIR_COLOUR, view.centre(a), view.centre(b), 2)
-                for body in (a, b):
-                    pygame.draw.rect(target, PAIR_COLOUR, view.box(body), 1)
+            if a is None or b is None:
+                continue
+            if a.kind in EDGES:  # an edge (ids below every thing's: always a): its line
+                line = a.y + a.h - 1 if a.kind is Kind.TOP else a.y
+                x, y = view.centre(b)
+                edge_y = view.to_window(0, line)[1]
+                pygame.draw.line(target, PAIR_COLOUR, (x, y), (x, edge_y), 2)
+                pygame.draw.line(target, PAIR_COLOUR, (view.x, edge_y),
+                                 (view.to_window(SCREEN_W, 0)[0], edge_y), 1)
+                pygame.draw.rect(target, PAIR_COLOUR, view.box(b), 1)
+                continue
+            pygame.draw.line(target, PAIR_COLOUR, view.centre(a), view.centre(b), 2)
+            for body in (a, b):
+                pygame.draw.rect(target, PAIR_COLOUR, view.box(body), 1)
         size = max(OVERLAY_TEXT_PX, round(7 * view.scale))
         if self._font is None or self._font_size != size:
             pygame.font.init()

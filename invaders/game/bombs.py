@@ -65,12 +65,14 @@ def choose_column(slot: BombSlot, config: GameConfig, cannon_centre: int, rack: 
     return col
 
 
-def spawn(slot: BombSlot, rack: Rack, col: int, store: BodyStore) -> Bomb | None:
-    """Drop a bomb from the lowest live alien of `col` (cell x + 7, 10 rows below its top)."""
+def spawn(slot: BombSlot, rack: Rack, col: int, store: BodyStore, drop: tuple[int, ...]
+          ) -> Bomb | None:
+    """Drop a bomb from the lowest live alien of `col`, `drop` (x, y) from its x and its
+    picture's top."""
     shooter = rack.lowest_in_column(col)
     if shooter is None:
         return None
-    bomb = Bomb(store.new_id(), slot.btype, shooter.x + 7, shooter.top + 10)
+    bomb = Bomb(store.new_id(), slot.btype, shooter.x + drop[0], shooter.top + drop[1])
     store.add(bomb)
     slot.bomb = bomb
     slot.steps = 0

@@ -118,6 +118,15 @@ class Geometry(Section):
     saucer_start_right: int = within(192, 0, 200)  # ... from the right
     saucer_exit_left: int = within(8, 0, 224)  # it leaves the screen once its x is left of this
     saucer_exit_right: int = within(193, 0, 224)  # ... or reaches this
+    # where the shot leaves and the rolling bomb aims: this far right of the cannon's x
+    cannon_centre: int = within(8, 0, 15)
+    # a bomb drops this far (x, y) from its alien's x and picture top (05A5-05B4)
+    bomb_drop_offset: tuple[int, ...] = within((7, 10), -16, 16, 2, 2)
+    # bursts' pictures are drawn this far (x, y) from the shot or the bomb (03DF, 0436)
+    shot_burst_offset: tuple[int, ...] = within((-3, -2), -8, 8, 2, 2)
+    bomb_burst_offset: tuple[int, ...] = within((-2, 2), -8, 8, 2, 2)
+    # a bomb bursting on the ground: x from the bomb's, y from the ground row (05F6)
+    ground_burst_offset: tuple[int, ...] = within((-2, -7), -8, 8, 2, 2)
 
 
 @dataclass(frozen=True, repr=False, eq=False)

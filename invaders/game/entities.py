@@ -13,6 +13,8 @@ from invaders.game import art
 from invaders.game.config import SCREEN_H, SCREEN_W, GameConfig
 from invaders.game.kinds import Kind
 
+FOOTPRINT_ABOVE = 8  # blank rows an alien's draw footprint has above its picture
+
 
 def footprint_mask(picture: art.Art) -> pygame.mask.Mask:
     """An alien's 16x16 draw footprint: 8 blank rows above its 16x8 picture.
@@ -20,7 +22,7 @@ def footprint_mask(picture: art.Art) -> pygame.mask.Mask:
     The original draws each alien as two bytes per column, its picture and the 8 px above it,
     which clears that area: that is how low aliens chew through the shields.
     """
-    return art.mask_of(("." * 16,) * 8 + picture)
+    return art.mask_of(("." * 16,) * FOOTPRINT_ABOVE + picture)
 
 
 ALIEN_MASKS = tuple(tuple(footprint_mask(p) for p in pics) for pics in art.ALIEN_BY_ROW)
@@ -36,12 +38,13 @@ class Alien(Body):
         self.index = index
         self.row, self.col = row, col
         self.frame = frame
-        super().__init__(body_id, Kind.ALIEN, x, top - 8, ALIEN_MASKS[self.row][frame])
+        super().__init__(body_id, Kind.ALIEN, x, top - FOOTPRINT_ABOVE,
+                         ALIEN_MASKS[self.row][frame])
 
     @property
     def top(self) -> int:
-        """First row of the picture (the footprint starts 8 rows higher)."""
-        return self.y + 8
+        """First row of the picture (the footprint starts FOOTPRINT_ABOVE rows higher)."""
+        return self.y + FOOTPRINT_ABOVE
 
 
 class CannonState(IntEnum):

@@ -7,7 +7,7 @@ from bisect import bisect_left
 from invaders.engine.store import BodyStore
 from invaders.game import art
 from invaders.game.config import GameConfig
-from invaders.game.entities import ALIEN_MASKS, Alien
+from invaders.game.entities import ALIEN_MASKS, FOOTPRINT_ABOVE, Alien
 
 
 class Rack:
@@ -79,7 +79,8 @@ class Rack:
         if alien.frame != self.frame:
             alien.frame = self.frame
             store.reshape(alien, ALIEN_MASKS[row][self.frame])
-        store.move(alien, self.ref_x + g.cell * col, self.ref_top - g.cell * row - 8)
+        store.move(alien, self.ref_x + g.cell * col,
+                   self.ref_top - g.cell * row - FOOTPRINT_ABOVE)
         self.cursor = index + 1
         if at == len(live) - 1:  # the last live one
             self._wrap()

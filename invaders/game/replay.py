@@ -173,7 +173,9 @@ def _int(value: Any, name: str, low: int = 0, high: int = 2**63 - 1) -> int:
 # program that had the default value written into its code, so the default is what it meant.
 ADDED_LATER: dict[str, frozenset[str]] = {
     "config.geometry": frozenset({"saucer_start_left", "saucer_start_right",
-                                  "saucer_exit_left", "saucer_exit_right"}),
+                                  "saucer_exit_left", "saucer_exit_right", "cannon_centre",
+                                  "bomb_drop_offset", "shot_burst_offset",
+                                  "bomb_burst_offset", "ground_burst_offset"}),
 }
 
 
@@ -199,9 +201,9 @@ def _config(data: Any, cls: type = GameConfig, name: str = "config") -> Any:
         elif isinstance(default, tuple):
             _need(isinstance(value, list) and len(value) <= 64,
                   f"{where} must be a list of at most 64 numbers")
-            values[key] = tuple(_int(v, where) for v in value)
-        else:
-            values[key] = _int(value, where)
+            values[key] = tuple(_int(v, where, -2**63) for v in value)
+        else:  # (a size check here; the config itself checks each field's range)
+            values[key] = _int(value, where, -2**63)
     try:
         return cls(**values)
     except ConfigError as err:  # names the field, its value and its range

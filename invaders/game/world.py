@@ -273,7 +273,7 @@ class World:
         # (1512, 1626).
         if (fire_pressed and self.shot is None and not self.shot_bursting
                 and not self.alien_exploding):
-            self.shot = Shot(self.store.new_id(), cannon.x + 8, g.shot_spawn_top)
+            self.shot = Shot(self.store.new_id(), cannon.x + g.cannon_centre, g.shot_spawn_top)
             self.store.add(self.shot)
             self.events.append(Event.SHOT_FIRED)
 
@@ -319,15 +319,18 @@ class World:
         if slot.skip_next:
             slot.skip_next = False
             return
-        col = bombs.choose_column(slot, cfg, self.cannon.x + 8, self.rack)
-        if col is not None and bombs.spawn(slot, self.rack, col, self.store) is not None:
+        col = bombs.choose_column(slot, cfg, self.cannon.x + cfg.geometry.cannon_centre,
+                                  self.rack)
+        if col is not None and bombs.spawn(slot, self.rack, col, self.store,
+                                           cfg.geometry.bomb_drop_offset) is not None:
             self.events.append(Event.BOMB_FIRED)
 
     def bomb_hits_ground(self, bomb: Bomb) -> None:
         """A bomb at the bottom bursts on the ground line and chips it."""
         slot = self.slots[bomb.btype]
         g = self.config.geometry
-        x, y = bomb.x - 2, g.ground_row - 7
+        dx, dy = g.ground_burst_offset
+        x, y = bomb.x + dx, g.ground_row + dy
         self.ground.erase(art.mask_of(art.BOMB_BURST), (x, y - g.ground_row))
         self.store.remove(bomb)
         bombs.start_burst(slot, x, y, self.config.timing.bomb_burst_steps)
@@ -378,23 +381,27 @@ class World:
             self.saucer.from_left = saucer.from_left_after(self.shots_removed)
 
     def burst_shot(self, x: int, top: int) -> None:
-        """The shot bursts with its 8x8 picture at (x - 3, top - 2), punching shields under it.
+        """The shot bursts with its 8x8 picture at `shot_burst_offset` from (x, top), (-3, -2),
+        punching shields under it.
 
         The shot's 1x8 box has its 4 lit rows at the bottom (ROM 1C90: 0x0F), so `top - 2` is
         the original's Yr - 2 for the box (03DF-03F7). UNCERTAIN: a second reading of the
         listing put this burst 1 px off; ours gives this place, so we keep it.
         """
         self.remove_shot()
-        corner = (x - 3, top - 2)
+        dx, dy = self.config.geometry.shot_burst_offset
+        corner = (x + dx, top + dy)
         self.erode(art.mask_of(art.SHOT_BURST), *corner)
         self.explosions.append(Explosion(Blast.SHOT, *corner, self.config.timing.shot_burst))
         self.events.append(Event.SHOT_BURST)
 
     def burst_bomb(self, bomb: Bomb, x: int, y: int) -> None:
-        """A bomb bursts with its 6x8 picture at (x - 2, y + 2), punching shields under it."""
+        """A bomb bursts with its 6x8 picture at `bomb_burst_offset` from (x, y), (-2, 2),
+        punching shields under it."""
         slot = self.slots[bomb.btype]
         self.store.remove(bomb)
-        corner = (x - 2, y + 2)
+        dx, dy = self.config.geometry.bomb_burst_offset
+        corner = (x + dx, y + dy)
         self.erode(art.mask_of(art.BOMB_BURST), *corner)
         bombs.start_burst(slot, *corner, self.config.timing.bomb_burst_steps)
         self.events.append(Event.BOMB_BURST)

@@ -74,7 +74,7 @@ class Autopilot:
         cannon = world.cannon
         if cannon.state is not ACTIVE:
             return 0
-        centre = cannon.x + 8
+        centre = cannon.x + world.config.geometry.cannon_centre
         # The steps of a tick, the usual cases inlined (calls cost more than most of them).
         target = None
         if self._wander > 0:  # drifting for a while, so games differ by seed
@@ -192,7 +192,7 @@ class Autopilot:
         cannon_x = world.cannon.x
         for anywhere in (False, True):
             best_x = None
-            best_y = -1  # the lowest has the largest y (its picture's top is y + 8)
+            best_y = -1  # the lowest has the largest y (its footprint's top)
             best_dist = 0
             for alien in targets:
                 x = alien.x
@@ -205,7 +205,7 @@ class Autopilot:
                 if y > best_y or dist < best_dist:
                     best_x, best_y, best_dist = x, y, dist
             if best_x is not None:
-                return best_x + 8
+                return best_x + world.config.geometry.cell // 2  # its centre
         return None
 
     def _want_fire(self, world: World, centre: int, target: int | None) -> bool:
@@ -220,7 +220,8 @@ class Autopilot:
         if self.saucer_trick and world.shots_removed % 15 == 7 and (
                 world.saucer.saucer is None or not self._clear_column(world, centre)):
             return False
-        if not self._through_shields and centre - 8 in self._shields.edges(world):
+        if not self._through_shields and (centre - world.config.geometry.cannon_centre
+                                          in self._shields.edges(world)):
             return False
         fire = abs(target - centre) <= 3 or self.rng.random() < 0.02
         if fire:
@@ -273,11 +274,13 @@ class ShieldColumns:
 
     def edges(self, world: World) -> frozenset[int]:
         """The left edges of the 16-px boxes (an alien's, the cannon's) whose centre column
-        a shield covers: the columns less 8, as the autopilot compares boxes."""
+        a shield covers: the columns less the cannon's centre, as the autopilot compares
+        boxes."""
         if world.erosions != self._key[1] or world.bunkers is not self._key[0]:
             self._key = (world.bunkers, world.erosions)
             self._lit = self._all_columns(world)
-            self._edges = frozenset(x - 8 for x in self._lit)
+            centre = world.config.geometry.cannon_centre
+            self._edges = frozenset(x - centre for x in self._lit)
         return self._edges
 
     def _all_columns(self, world: World) -> frozenset[int]:
@@ -309,12 +312,12 @@ def _hiding_place(world: World) -> int:
     aliens = world.rack.live_aliens()
     middle = corridor(world)
     if aliens and world.rack.lowest_in_column(middle) is None:
-        x = world.rack.ref_x + g.cell * middle + 8
-        if g.cannon_min_x + 8 <= x <= g.cannon_max_x + 8:
+        x = world.rack.ref_x + g.cell * middle + g.cell // 2
+        if g.cannon_min_x + g.cannon_centre <= x <= g.cannon_max_x + g.cannon_centre:
             return x
     left = min((a.x for a in aliens), default=g.cannon_min_x)
     right = max((a.x + a.w for a in aliens), default=g.cannon_max_x)
     room_left, room_right = left - g.cannon_min_x, g.cannon_max_x + 16 - right
     if room_right >= room_left:
-        return g.cannon_max_x + 8
-    return g.cannon_min_x + 8
+        return g.cannon_max_x + g.cannon_centre
+    return g.cannon_min_x + g.cannon_centre
