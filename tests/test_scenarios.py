@@ -79,3 +79,20 @@ def test_the_second_wave_starts_at_its_own_height(name):
     world, _, notes = _play(name)
     assert (2, 152) in notes["starts"]
     assert world.wave == 2
+
+
+def test_each_replay_is_what_the_command_beside_it_makes(tmp_path, capsys):
+    """Byte for byte: a change that plays the autopilot's games differently (or writes
+    files differently) shows here, not only in games that happen to replay."""
+    import re
+
+    from invaders.app.cli import main
+
+    table = (REPLAYS / "README.md").read_text()
+    commands = re.findall(r"`invaders (run [^`]*--record replays/([\w-]+\.json))`", table)
+    assert sorted(name for _, name in commands) == sorted(p.name for p in REPLAYS.glob("*.json"))
+    for command, name in commands:
+        words = command.replace("replays/", f"{tmp_path}/").split()
+        assert main(words) == 0
+        assert (tmp_path / name).read_bytes() == (REPLAYS / name).read_bytes(), name
+    capsys.readouterr()
