@@ -62,15 +62,19 @@ PREDICATES = [None, pygame.sprite.collide_rect, pygame.sprite.collide_mask,
 @settings(deadline=None)
 @given(seed=st.integers(0, 2**32 - 1), n_a=st.integers(0, 30), n_b=st.integers(0, 30),
        which=st.integers(0, len(PREDICATES) - 1), kill_a=st.booleans(),
-       kill_b=st.booleans(), as_list=st.booleans())
+       kill_b=st.booleans(), holder=st.sampled_from(["group", "layered", "list"]))
 def test_groupcollide_gives_pygames_result_order_and_kills(seed, n_a, n_b, which, kill_a,
-                                                           kill_b, as_list):
+                                                           kill_b, holder):
     collided = PREDICATES[which]
     results = []
     for function in (pygame.sprite.groupcollide, collide.groupcollide):
         side_a, side_b = _scene(seed, n_a, n_b)
-        group_a, group_b = pygame.sprite.Group(side_a), pygame.sprite.Group(side_b)
-        b = list(side_b) if as_list else group_b
+        group_a = pygame.sprite.Group(side_a)
+        group_b = (pygame.sprite.LayeredUpdates if holder == "layered" else
+                   pygame.sprite.Group)()
+        for i, sprite in enumerate(side_b):  # layers out of order: iteration is by layer
+            group_b.add(sprite, layer=i * 7 % 3) if holder == "layered" else group_b.add(sprite)
+        b = list(side_b) if holder == "list" else group_b
         found = function(group_a, b, kill_a, kill_b, collided)
         index = {id(s): ("a", i) for i, s in enumerate(side_a)}
         index.update({id(s): ("b", i) for i, s in enumerate(side_b)})

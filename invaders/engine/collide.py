@@ -134,16 +134,33 @@ def groupcollide(groupa: Iterable[Any], groupb: Iterable[Any], dokilla: bool, do
     fast = _fast_sides(groupa, groupb, collided) if collided in FAST_TESTS else None
     found: dict[Any, list[Any]] = {}
     if fast is None:
-        for sprite in groupa:
-            hits = spritecollide(sprite, groupb, dokillb, collided)
-            if hits:
-                found[sprite] = hits
+        _groupcollide_plain(groupa, groupb, dokillb, collided, found)
     else:
         _groupcollide_fast(fast, groupb, dokillb, collided in MASK_TESTS, found)
     if dokilla:
         for sprite in found:
             sprite.kill()
     return found
+
+
+def _groupcollide_plain(groupa: Iterable[Any], groupb: Iterable[Any], dokillb: bool,
+                        collided: Collided | None, found: dict[Any, list[Any]]) -> None:
+    """pygame's own loop: `spritecollide` for each sprite of the first group, written in
+    (a Python call fewer a sprite; small groups, where this loop runs, feel it), and a plain
+    Group's sprites read as its `sprites()` gives them (`spritedict`, in order)."""
+    plain = type(groupb) is pygame.sprite.Group
+    for sprite in groupa:
+        others = list(groupb.spritedict) if plain else groupb  # type: ignore[attr-defined]
+        if collided is None:
+            overlaps = sprite.rect.colliderect
+            hits = [other for other in others if overlaps(other.rect)]
+        else:
+            hits = [other for other in others if collided(sprite, other)]
+        if hits:
+            found[sprite] = hits
+            if dokillb:
+                for other in hits:
+                    other.kill()
 
 
 def _fast_sides(groupa: Iterable[Any], groupb: Iterable[Any], collided: Collided | None
@@ -154,7 +171,10 @@ def _fast_sides(groupa: Iterable[Any], groupb: Iterable[Any], collided: Collided
     kinds = (AbstractGroup, list, tuple)
     if not isinstance(groupa, kinds) or not isinstance(groupb, kinds):
         return None
-    if len(groupa) * len(groupb) < FAST_FROM:
+    # How many pairs, the sizes read where pygame keeps a Group's sprites (its `len` is a
+    # Python call, which small groups would feel); only the choice of loop depends on it.
+    if len(getattr(groupa, "spritedict", groupa)) * len(
+            getattr(groupb, "spritedict", groupb)) < FAST_FROM:
         return None
     side_a, side_b = list(groupa), list(groupb)
     rect = pygame.Rect
