@@ -131,10 +131,27 @@ def groupcollide(groupa: Iterable[Any], groupb: Iterable[Any], dokilla: bool, do
     """Each sprite of `groupa` that collides with any of `groupb`, with the list of those, as
     pygame gives them: `groupb` looked at again for each sprite of `groupa` (so one that
     `dokillb` killed is not met again), the sprites of `groupa` killed at the end."""
-    fast = _fast_sides(groupa, groupb, collided) if collided in FAST_TESTS else None
+    fast = _fast_sides(groupa, groupb) if collided in FAST_TESTS else None
     found: dict[Any, list[Any]] = {}
     if fast is None:
-        _groupcollide_plain(groupa, groupb, dokillb, collided, found)
+        # pygame's own loop, spritecollide written in (a Python call fewer a sprite: small
+        # groups, where this loop runs, feel it), and a plain Group's sprites read as its
+        # `sprites()` gives them, from its `spritedict` in order (a subclass may order them
+        # otherwise, LayeredUpdates by layer, so only a plain Group).
+        group = pygame.sprite.Group
+        plain = type(groupb) is group
+        for sprite in list(groupa.spritedict) if type(groupa) is group else groupa:  # type: ignore
+            others = list(groupb.spritedict) if plain else groupb  # type: ignore[attr-defined]
+            if collided is None:
+                overlaps = sprite.rect.colliderect
+                hits = [other for other in others if overlaps(other.rect)]
+            else:
+                hits = [other for other in others if collided(sprite, other)]
+            if hits:
+                found[sprite] = hits
+                if dokillb:
+                    for other in hits:
+                        other.kill()
     else:
         _groupcollide_fast(fast, groupb, dokillb, collided in MASK_TESTS, found)
     if dokilla:
@@ -143,38 +160,20 @@ def groupcollide(groupa: Iterable[Any], groupb: Iterable[Any], dokilla: bool, do
     return found
 
 
-def _groupcollide_plain(groupa: Iterable[Any], groupb: Iterable[Any], dokillb: bool,
-                        collided: Collided | None, found: dict[Any, list[Any]]) -> None:
-    """pygame's own loop: `spritecollide` for each sprite of the first group, written in
-    (a Python call fewer a sprite; small groups, where this loop runs, feel it), and a plain
-    Group's sprites read as its `sprites()` gives them (`spritedict`, in order)."""
-    plain = type(groupb) is pygame.sprite.Group
-    for sprite in groupa:
-        others = list(groupb.spritedict) if plain else groupb  # type: ignore[attr-defined]
-        if collided is None:
-            overlaps = sprite.rect.colliderect
-            hits = [other for other in others if overlaps(other.rect)]
-        else:
-            hits = [other for other in others if collided(sprite, other)]
-        if hits:
-            found[sprite] = hits
-            if dokillb:
-                for other in hits:
-                    other.kill()
-
-
-def _fast_sides(groupa: Iterable[Any], groupb: Iterable[Any], collided: Collided | None
+def _fast_sides(groupa: Iterable[Any], groupb: Iterable[Any]
                 ) -> tuple[list[Any], list[Any]] | None:
     """Both groups' sprites, when the C tests give pygame's answer (for a known predicate):
     groups that are looked at again unchanged (a Group, whose kills the fast loop follows,
     or a list or tuple), enough pairs for the C tests to pay, and integer Rects."""
-    kinds = (AbstractGroup, list, tuple)
-    if not isinstance(groupa, kinds) or not isinstance(groupb, kinds):
-        return None
     # How many pairs, the sizes read where pygame keeps a Group's sprites (its `len` is a
     # Python call, which small groups would feel); only the choice of loop depends on it.
-    if len(getattr(groupa, "spritedict", groupa)) * len(
-            getattr(groupb, "spritedict", groupb)) < FAST_FROM:
+    try:
+        pairs = len(getattr(groupa, "spritedict", groupa)) * len(
+            getattr(groupb, "spritedict", groupb))
+    except TypeError:  # an iterable without a length (pygame's loop takes any)
+        return None
+    kinds = (AbstractGroup, list, tuple)
+    if pairs < FAST_FROM or not isinstance(groupa, kinds) or not isinstance(groupb, kinds):
         return None
     side_a, side_b = list(groupa), list(groupb)
     rect = pygame.Rect
