@@ -94,6 +94,7 @@ def collide_mask(left: Any, right: Any) -> tuple[int, int] | None:
 RECT_TESTS = frozenset({None, collide_rect, pygame.sprite.collide_rect})
 MASK_TESTS = frozenset({collide_mask, pygame.sprite.collide_mask})
 FAST_TESTS = RECT_TESTS | MASK_TESTS
+GROUP = pygame.sprite.Group
 
 
 def spritecollide(sprite: Any, group: Iterable[Any], dokill: bool,
@@ -131,18 +132,20 @@ def groupcollide(groupa: Iterable[Any], groupb: Iterable[Any], dokilla: bool, do
     """Each sprite of `groupa` that collides with any of `groupb`, with the list of those, as
     pygame gives them: `groupb` looked at again for each sprite of `groupa` (so one that
     `dokillb` killed is not met again), the sprites of `groupa` killed at the end."""
-    fast = _fast_sides(groupa, groupb) if collided in FAST_TESTS else None
     found: dict[Any, list[Any]] = {}
+    fast = None
+    if collided in FAST_TESTS and _pairs(groupa, groupb) >= FAST_FROM:
+        fast = _fast_sides(groupa, groupb)
     if fast is None:
         # pygame's own loop, spritecollide written in (a Python call fewer a sprite: small
-        # groups, where this loop runs, feel it), and a plain Group's sprites read as its
-        # `sprites()` gives them, from its `spritedict` in order (a subclass may order them
-        # otherwise, LayeredUpdates by layer, so only a plain Group).
-        group = pygame.sprite.Group
-        plain = type(groupb) is group
-        for sprite in list(groupa.spritedict) if type(groupa) is group else groupa:  # type: ignore
+        # groups, where this loop runs, feel it), `collide_rect` as the rect test it is, and
+        # a plain Group's sprites read as its `sprites()` gives them, from its `spritedict`
+        # in order (a subclass may order them otherwise, LayeredUpdates by layer).
+        rects = collided in RECT_TESTS
+        plain = type(groupb) is GROUP
+        for sprite in list(groupa.spritedict) if type(groupa) is GROUP else groupa:  # type: ignore
             others = list(groupb.spritedict) if plain else groupb  # type: ignore[attr-defined]
-            if collided is None:
+            if rects:
                 overlaps = sprite.rect.colliderect
                 hits = [other for other in others if overlaps(other.rect)]
             else:
@@ -160,20 +163,24 @@ def groupcollide(groupa: Iterable[Any], groupb: Iterable[Any], dokilla: bool, do
     return found
 
 
+def _pairs(groupa: Any, groupb: Any) -> int:
+    """How many pairs, the sizes read where pygame keeps a Group's sprites (its `len` is a
+    Python call, which small groups would feel); 0 for an iterable without a length (pygame
+    takes any). Only the choice of loop depends on it."""
+    try:
+        return len(getattr(groupa, "spritedict", groupa)) * len(
+            getattr(groupb, "spritedict", groupb))
+    except TypeError:
+        return 0
+
+
 def _fast_sides(groupa: Iterable[Any], groupb: Iterable[Any]
                 ) -> tuple[list[Any], list[Any]] | None:
     """Both groups' sprites, when the C tests give pygame's answer (for a known predicate):
     groups that are looked at again unchanged (a Group, whose kills the fast loop follows,
-    or a list or tuple), enough pairs for the C tests to pay, and integer Rects."""
-    # How many pairs, the sizes read where pygame keeps a Group's sprites (its `len` is a
-    # Python call, which small groups would feel); only the choice of loop depends on it.
-    try:
-        pairs = len(getattr(groupa, "spritedict", groupa)) * len(
-            getattr(groupb, "spritedict", groupb))
-    except TypeError:  # an iterable without a length (pygame's loop takes any)
-        return None
+    or a list or tuple) of integer Rects."""
     kinds = (AbstractGroup, list, tuple)
-    if pairs < FAST_FROM or not isinstance(groupa, kinds) or not isinstance(groupb, kinds):
+    if not isinstance(groupa, kinds) or not isinstance(groupb, kinds):
         return None
     side_a, side_b = list(groupa), list(groupb)
     rect = pygame.Rect

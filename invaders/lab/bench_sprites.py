@@ -1,0 +1,93 @@
+"""Section 5 of `invaders bench`: `invaders.engine.collide.groupcollide` against pygame-ce's
+own, group sizes by predicates, on the same sprites, taking turns call by call.
+
+The scenes are square fields of sprites 4 to 24 px a side with masks (a few pixels holed),
+as dense at every size (about one sprite's area in 40 x 40 px), so each size has collisions
+to find. Each round times both on the same groups, the order reversed from one round to the
+next, enough calls of each to last about 10 ms; figures are medians over the rounds with
+their spread, the ratio the median of the per-round ratios.
+"""
+
+from __future__ import annotations
+
+import random
+import statistics
+import time
+from collections.abc import Callable
+
+import pygame
+
+from invaders.engine import collide
+from invaders.lab.timing import no_gc
+
+SIZES = (1, 5, 10, 100, 1000)
+PREDICATES = (("none", None), ("collide_rect", pygame.sprite.collide_rect),
+              ("collide_mask", pygame.sprite.collide_mask))
+GOALS = {100: 5.0, 1000: 50.0}  # times faster than pygame with collide_mask, at least
+ROUND_SECONDS = 0.01
+
+
+class Block(pygame.sprite.Sprite):
+    """A sprite with a rect and a mask, a few of its pixels holed."""
+
+    def __init__(self, rng: random.Random, span: int) -> None:
+        super().__init__()
+        w, h = rng.randrange(4, 25), rng.randrange(4, 25)
+        self.rect = pygame.Rect(rng.randrange(span), rng.randrange(span), w, h)
+        self.mask = pygame.mask.Mask((w, h), fill=True)
+        for _ in range(5):
+            self.mask.set_at((rng.randrange(w), rng.randrange(h)), 0)
+
+
+def groups(n: int, seed: int = 1) -> tuple[pygame.sprite.Group, pygame.sprite.Group]:
+    rng = random.Random(seed)
+    span = int(40 * n ** 0.5) + 40
+    return (pygame.sprite.Group(Block(rng, span) for _ in range(n)),
+            pygame.sprite.Group(Block(rng, span) for _ in range(n)))
+
+
+def _call(groupcollide: Callable, group_a: pygame.sprite.Group, group_b: pygame.sprite.Group,
+          collided: Callable | None) -> Callable[[], object]:
+    return lambda: groupcollide(group_a, group_b, False, False, collided)
+
+
+def _seconds(call: Callable[[], object], times: int) -> float:
+    start = time.perf_counter()
+    for _ in range(times):
+        call()
+    return (time.perf_counter() - start) / times
+
+
+def sprite_table(rounds: int, goal: Callable[..., None]) -> None:
+    """Print the table and its goals: no row slower than pygame beyond its spread (some
+    round at 1.0x or more), and with collide_mask at least 5x at 100 a side, 50x at 1,000."""
+    print("5. pygame's groupcollide against ours (invaders.engine.collide), the same "
+          "groups, calls taking turns: median (lowest..highest round)")
+    slower = []  # the rows where no round had ours at pygame's speed or better
+    for n in SIZES:
+        group_a, group_b = groups(n)
+        for name, collided in PREDICATES:
+            theirs, ours = [], []
+            calls = {"theirs": _call(pygame.sprite.groupcollide, group_a, group_b, collided),
+                     "ours": _call(collide.groupcollide, group_a, group_b, collided)}
+            if calls["theirs"]() != calls["ours"]():
+                print(f"   WARNING {n} a side, {name}: different results")
+            once = _seconds(calls["theirs"], 1)
+            times = max(1, int(ROUND_SECONDS / max(once, 1e-7)))
+            with no_gc():
+                for index in range(rounds):
+                    order = ("theirs", "ours") if index % 2 == 0 else ("ours", "theirs")
+                    for who in order:
+                        spent = _seconds(calls[who], times)
+                        (theirs if who == "theirs" else ours).append(spent)
+            ratios = [a / b for a, b in zip(theirs, ours, strict=True)]
+            print(f"   {n:>5} a side  {name:<13} pygame {statistics.median(theirs) * 1e6:>10.1f}"
+                  f" us  ours {statistics.median(ours) * 1e6:>9.1f} us  "
+                  f"{statistics.median(ratios):>6.2f}x ({min(ratios):.2f}..{max(ratios):.2f})")
+            if max(ratios) < 1.0:
+                slower.append(f"{n} a side, {name}")
+            if name == "collide_mask" and n in GOALS:
+                goal(f"{n} a side, collide_mask: >= {GOALS[n]:.0f}x pygame", ratios, GOALS[n])
+    goal("no size or predicate slower than pygame beyond its rounds' spread",
+         [0.0 if slower else 1.0], 1.0,
+         detail="slower: " + "; ".join(slower) if slower else "none slower")
