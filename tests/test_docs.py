@@ -110,3 +110,17 @@ def test_every_command_on_the_page_runs_and_prints_what_the_page_shows(
                 assert shown_lines[0] in printed.splitlines(), (words, printed)
             else:
                 assert printed.strip() == output.strip(), words
+
+
+PYTHON = [(page, block) for page in PAGES
+          for block in re.findall(r"```python\n(.*?)```", page.read_text(), re.S)]
+
+
+@pytest.mark.parametrize("page, code", PYTHON, ids=[f"{p.name}-{i}" for i, (p, _) in
+                                                     enumerate(PYTHON)])
+def test_every_python_example_on_the_pages_runs_and_prints_what_its_comments_say(
+        page, code, capsys):
+    exec(compile(code, page.name, "exec"), {})
+    printed = capsys.readouterr().out.splitlines()
+    said = re.findall(r"print\(.*\)\s+# (.+)$", code, re.M)  # what a print says it prints
+    assert printed == said
