@@ -25,20 +25,30 @@ def discrete_counterexample(
 ) -> tuple[int, int] | None:
     """A start offset at which `moving`, moving (dx, dy) relative to `fixed`, touches it on
     the way but at neither end: proof that discrete tests miss. None: discrete is exact.
+    The first such offset, rows top to bottom, each left to right.
 
     Only the end of a tick is tested, but the start was the previous tick's end, so a
-    discrete test misses exactly what the sweep meets between the two ends.
+    discrete test misses exactly what the sweep meets between the two ends. Every start
+    offset is tried at once: `Mask.convolve` marks each offset at which two masks overlap,
+    so the misses are the sweep's marks less the start's and the end's.
     """
-    fw, fh = fixed.get_size()
     mw, mh = moving.get_size()
+    x0, y0 = -mw - abs(dx), -mh - abs(dy)  # the first start offset that can touch
+    fw, fh = fixed.get_size()
+    misses = pygame.mask.Mask((fw - x0 + abs(dx) + 1, fh - y0 + abs(dy) + 1))
+    # convolve's bit (i, j): `other`'s bottom-right corner at (i, j), its corner at
+    # (i - w + 1, j - h + 1); each is drawn where that offset sits on `misses`.
     swept = predicates.swept_mask(moving, dx, dy)
-    for oy in range(-mh - abs(dy), fh + abs(dy) + 1):
-        for ox in range(-mw - abs(dx), fw + abs(dx) + 1):
-            if fixed.overlap(moving, (ox, oy)) or fixed.overlap(moving, (ox + dx, oy + dy)):
-                continue
-            if fixed.overlap(swept, (ox + min(0, dx), oy + min(0, dy))):
-                return ox, oy
-    return None
+    sw, sh = swept.get_size()
+    misses.draw(fixed.convolve(swept), (1 - sw - min(0, dx) - x0, 1 - sh - min(0, dy) - y0))
+    touching = fixed.convolve(moving)
+    misses.erase(touching, (1 - mw - x0, 1 - mh - y0))
+    misses.erase(touching, (1 - mw - dx - x0, 1 - mh - dy - y0))
+    if not misses.count():
+        return None
+    top = min(rect.top for rect in misses.get_bounding_rects())
+    left = next(x for x in range(misses.get_size()[0]) if misses.get_at((x, top)))
+    return left + x0, top + y0
 
 
 def sweep_adds_pixels(moving: pygame.mask.Mask, dx: int, dy: int) -> bool:

@@ -46,7 +46,7 @@ def make_plan(replays: Iterable[Path], quick: bool, big: bool = False) -> Plan:
     plan = Plan()
     if quick:
         replays, replay_ticks, storm_ticks = replays[:2], 600, 8
-        multipliers, sizes = (1, 4, 16), (100, 1000, 3000)
+        multipliers, sizes = (1, 4, 16), (100, 300, 1000)
     else:
         replay_ticks, storm_ticks = 1800, 16
         multipliers, sizes = MULTIPLIERS, (100, 300, 1000, 3000, 10000)
