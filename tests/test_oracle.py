@@ -11,6 +11,7 @@ import pytest
 from invaders.engine.body import Body
 from invaders.engine.broadphase import Brute
 from invaders.engine.detector import Detector
+from invaders.engine.grid import Grid
 from invaders.engine.rules import Motion, Shape
 from invaders.game import art
 from invaders.game.config import DEFAULT_CONFIG
@@ -47,10 +48,13 @@ def test_the_default_pipeline_matches_the_oracle_on_every_replay(path):
     assert (score.missed, score.false, score.late) == (0, 0, 0), score.examples
 
 
-def test_discrete_tests_are_late_or_miss_in_real_games():
-    scores = [_shadow(p, Detector(Brute(), DISCRETE)) for p in REPLAYS]
-    assert sum(s.late + s.missed for s in scores) >= 2
-    assert all(s.false == 0 for s in scores)  # discrete is never wrong, only late or blind
+@pytest.mark.parametrize("name", ["saucer-300", "second-wave", "wave-cleared"])
+def test_discrete_tests_are_late_or_miss_in_real_games(name):
+    """Each of these games has a contact that only a sweep finds (the grid gives the same
+    contacts as brute force, as test_broadphase holds, in a third of the time)."""
+    score = _shadow(REPLAYS[0].with_name(f"{name}.json"), Detector(Grid(), DISCRETE))
+    assert score.late + score.missed >= 1
+    assert score.false == 0  # discrete is never wrong, only late or blind
 
 
 def test_rect_tests_report_false_contacts_in_the_shield_arch_and_alien_corners():
