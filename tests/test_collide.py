@@ -31,9 +31,12 @@ def test_pygames_own_sprite_collision_tests_pass_with_ours_in_its_place(monkeypa
 
 
 class Thing(pygame.sprite.Sprite):
-    def __init__(self, x: int, y: int, w: int, h: int, holes: int = 0, seed: int = 0) -> None:
+    def __init__(self, x: float, y: float, w: float, h: float, holes: int = 0,
+                 seed: int = 0) -> None:
         super().__init__()
-        self.rect = pygame.Rect(x, y, w, h)
+        floats = isinstance(x, float)
+        self.rect = (pygame.FRect if floats else pygame.Rect)(x, y, w, h)
+        w, h = int(w), int(h)
         if holes >= 0:
             self.mask = pygame.mask.Mask((max(w, 0), max(h, 0)), fill=True)
             rng = random.Random(seed)
@@ -44,43 +47,119 @@ class Thing(pygame.sprite.Sprite):
             self.image.fill((255, 255, 255, 255 if holes == -1 else 0))
 
 
-def _scene(seed: int, n_a: int, n_b: int) -> tuple[list[Thing], list[Thing]]:
+def _scene(seed: int, n_a: int, n_b: int, floats: bool = False
+           ) -> tuple[list[Thing], list[Thing]]:
+    """Sprites of sizes -3 to 29 (masks holed, full, empty, or made from images), some
+    with float rects (FRect) when asked, each side with a sprite or two repeated."""
     rng = random.Random(seed)
 
-    def thing() -> Thing:
-        return Thing(rng.randrange(-20, 120), rng.randrange(-20, 120), rng.randrange(-3, 30),
-                     rng.randrange(-3, 30), rng.choice((-2, -1, 0, 0, 5, 40)),
-                     rng.randrange(1000))
+    def place() -> float:
+        return rng.randrange(-20, 120) + (rng.choice((0, 0.25, 0.5, 0.75)) if floats else 0)
 
-    return [thing() for _ in range(n_a)], [thing() for _ in range(n_b)]
+    def thing() -> Thing:
+        return Thing(place(), place(), rng.randrange(-3, 30), rng.randrange(-3, 30),
+                     rng.choice((-2, -1, 0, 0, 5, 40)), rng.randrange(1000))
+
+    side_a, side_b = [thing() for _ in range(n_a)], [thing() for _ in range(n_b)]
+    for side in (side_a, side_b):
+        if side and rng.random() < 0.3:
+            side.insert(rng.randrange(len(side) + 1), rng.choice(side))
+    return side_a, side_b
+
+
+class Recorded:
+    """A predicate of the caller's own: pygame calls it for given pairs, in an order; ours
+    must call it for the same pairs in the same order."""
+
+    def __init__(self) -> None:
+        self.calls: list[tuple[int, int]] = []
+
+    def __call__(self, left, right) -> bool:
+        self.calls.append((id(left), id(right)))
+        return bool(left.rect.colliderect(right.rect)) and (left.rect.x + right.rect.y) % 3 != 0
 
 
 PREDICATES = [None, pygame.sprite.collide_rect, pygame.sprite.collide_mask,
-              collide.collide_mask, pygame.sprite.collide_circle]
+              collide.collide_mask, pygame.sprite.collide_circle,
+              pygame.sprite.collide_rect_ratio(0.7), collide.collide_circle_ratio(1.3),
+              "recorded"]
+
+
+def _groups(side_a, side_b, holder):
+    """The first side in a Group; the second in a Group, a LayeredUpdates (layers out of
+    order, so iteration is by layer) or a list (duplicates kept)."""
+    group_a = pygame.sprite.Group(side_a)
+    group_b = (pygame.sprite.LayeredUpdates if holder == "layered" else pygame.sprite.Group)()
+    for i, sprite in enumerate(side_b):
+        group_b.add(sprite, layer=i * 7 % 3) if holder == "layered" else group_b.add(sprite)
+    return group_a, group_b, (list(side_b) if holder == "list" else group_b)
+
+
+def _named(things, side_a, side_b):
+    """Sprites as (side, first index) so two scenes built alike compare."""
+    index = {id(s): ("b", i) for i, s in reversed(list(enumerate(side_b)))}
+    index.update({id(s): ("a", i) for i, s in reversed(list(enumerate(side_a)))})
+    return [index[id(s)] for s in things]
+
+
+def _calls(collided, side_a, side_b):
+    """The pairs a Recorded predicate was called with, named (none for other predicates)."""
+    by_id = {id(s): s for s in side_a + side_b}
+    return [_named([by_id[left], by_id[right]], side_a, side_b)
+            for left, right in getattr(collided, "calls", ())]
+
+
+SCENES = dict(seed=st.integers(0, 2**32 - 1), n_a=st.integers(0, 30), n_b=st.integers(0, 30),
+              which=st.integers(0, len(PREDICATES) - 1), floats=st.booleans(),
+              holder=st.sampled_from(["group", "layered", "list"]))
 
 
 @settings(deadline=None)
-@given(seed=st.integers(0, 2**32 - 1), n_a=st.integers(0, 30), n_b=st.integers(0, 30),
-       which=st.integers(0, len(PREDICATES) - 1), kill_a=st.booleans(),
-       kill_b=st.booleans(), holder=st.sampled_from(["group", "layered", "list"]))
-def test_groupcollide_gives_pygames_result_order_and_kills(seed, n_a, n_b, which, kill_a,
-                                                           kill_b, holder):
-    collided = PREDICATES[which]
+@given(kill_a=st.booleans(), kill_b=st.booleans(), **SCENES)
+def test_groupcollide_gives_pygames_result_order_and_kills(seed, n_a, n_b, which, floats,
+                                                           kill_a, kill_b, holder):
     results = []
     for function in (pygame.sprite.groupcollide, collide.groupcollide):
-        side_a, side_b = _scene(seed, n_a, n_b)
-        group_a = pygame.sprite.Group(side_a)
-        group_b = (pygame.sprite.LayeredUpdates if holder == "layered" else
-                   pygame.sprite.Group)()
-        for i, sprite in enumerate(side_b):  # layers out of order: iteration is by layer
-            group_b.add(sprite, layer=i * 7 % 3) if holder == "layered" else group_b.add(sprite)
-        b = list(side_b) if holder == "list" else group_b
+        side_a, side_b = _scene(seed, n_a, n_b, floats)
+        group_a, group_b, b = _groups(side_a, side_b, holder)
+        collided = Recorded() if PREDICATES[which] == "recorded" else PREDICATES[which]
         found = function(group_a, b, kill_a, kill_b, collided)
-        index = {id(s): ("a", i) for i, s in enumerate(side_a)}
-        index.update({id(s): ("b", i) for i, s in enumerate(side_b)})
-        results.append(([(index[id(k)], [index[id(v)] for v in vs]) for k, vs in found.items()],
-                        [index[id(s)] for s in group_a], [index[id(s)] for s in group_b]))
+        results.append(([(_named([k], side_a, side_b), _named(vs, side_a, side_b))
+                         for k, vs in found.items()],
+                        _named(group_a, side_a, side_b), _named(group_b, side_a, side_b),
+                        _calls(collided, side_a, side_b)))
     assert results[0] == results[1]
+
+
+@settings(deadline=None)
+@given(kill=st.booleans(), **SCENES)
+def test_spritecollide_and_spritecollideany_give_pygames_answers(seed, n_a, n_b, which,
+                                                                 floats, kill, holder):
+    results = []
+    for module in (pygame.sprite, collide):
+        side_a, side_b = _scene(seed, max(n_a, 1), n_b, floats)
+        _, group_b, b = _groups(side_a, side_b, holder)
+        collided = Recorded() if PREDICATES[which] == "recorded" else PREDICATES[which]
+        first = module.spritecollideany(side_a[0], b, collided)
+        found = module.spritecollide(side_a[0], b, kill, collided)
+        results.append((_named([first] if first else [], side_a, side_b),
+                        _named(found, side_a, side_b), _named(group_b, side_a, side_b),
+                        _calls(collided, side_a, side_b)))
+    assert results[0] == results[1]
+
+
+def test_a_mask_is_made_once_per_image_until_the_image_is_forgotten(monkeypatch):
+    made = []
+    real = pygame.mask.from_surface
+    monkeypatch.setattr(pygame.mask, "from_surface", lambda s: made.append(s) or real(s))
+    a, b = Thing(0, 0, 4, 4, holes=-1), Thing(2, 2, 4, 4, holes=-1)
+    for _ in range(3):
+        assert collide.collide_mask(a, b) == (2, 2)
+    assert len(made) == 2  # one per image; pygame makes both again on every call
+    a.image.fill((0, 0, 0, 0))  # drawn on in place: the invariant broken...
+    assert collide.collide_mask(a, b) == (2, 2)  # ...the first mask still answers
+    collide.forget_image(a.image)
+    assert collide.collide_mask(a, b) is None == pygame.sprite.collide_mask(a, b)
 
 
 def test_a_shot_that_kills_is_spent_on_the_first_alien_it_meets():
@@ -104,3 +183,23 @@ def test_the_fast_path_is_taken_and_agrees_on_big_groups(collided, monkeypatch):
     monkeypatch.setattr(collide, "_groupcollide_fast", lambda *a: calls.append(1) or fast(*a))
     assert collide.groupcollide(side_a, side_b, False, False, collided) == expected
     assert expected and calls == [1]
+
+
+class Unhashable:
+    """A caller's predicate with `__eq__` alone, so no hash: pygame calls it all the same."""
+
+    def __eq__(self, other):
+        return self is other
+
+    def __call__(self, left, right):
+        return left.rect.colliderect(right.rect)
+
+
+def test_a_predicate_that_does_not_hash_is_called_as_pygame_calls_it():
+    side_a, side_b = _scene(3, 20, 20)
+    for function in ("groupcollide", "spritecollide", "spritecollideany"):
+        args = {"groupcollide": (side_a, side_b, False, False),
+                "spritecollide": (side_a[0], side_b, False),
+                "spritecollideany": (side_a[0], side_b)}[function]
+        expected = getattr(pygame.sprite, function)(*args, Unhashable())
+        assert getattr(collide, function)(*args, Unhashable()) == expected

@@ -8,12 +8,15 @@ give the same results, in the same order, with sprites killed when and as pygame
 `groupcollide` with no predicate, `collide_rect` or `collide_mask`, on groups of integer
 `Rect`s, reads each group's boxes once and tests each sprite of the first group against all
 of the second in one C call (`Rect.collidelistall`) instead of one Python call a pair; any
-other case runs the plain loop pygame runs. Swept tests and rules tables are the
+other case runs the plain loop pygame runs, with `collide_rect` as a rect test and a mask
+made from an image once, not once a pair (see `_image_mask` for what that asks of you). The
+module keeps nothing else between calls. Swept tests and rules tables are the
 `SpriteCollider`'s (`invaders.engine.sprites`); nothing here sweeps.
 """
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Callable, Iterable
 from typing import Any
 
@@ -77,35 +80,75 @@ class collide_circle_ratio:  # (pygame's name)
         return _circles(left, right, self.ratio)
 
 
+_image_masks: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def _mask(sprite: Any) -> pygame.mask.Mask:
-    """The sprite's `mask`, or one made from its `image` as pygame's `collide_mask` makes it."""
+    """The sprite's `mask`, or the one `collide_mask` makes from its `image`."""
     try:
         return sprite.mask
     except AttributeError:
-        return pygame.mask.from_surface(sprite.image)
+        return _image_mask(sprite.image)
+
+
+def _image_mask(image: pygame.Surface) -> pygame.mask.Mask:
+    """The mask `collide_mask` makes from an image, made once per image (pygame makes it
+    again for every pair it tests).
+
+    Invariant: an image keeps its pixels once it has been tested. A sprite whose image is
+    drawn on in place should carry a `mask`, or its image be handed to `forget_image`
+    after the drawing; a test shows the cache outliving such a drawing and forgotten."""
+    mask = _image_masks.get(image)
+    if mask is None:
+        mask = _image_masks[image] = pygame.mask.from_surface(image)
+    return mask
+
+
+def forget_image(image: pygame.Surface) -> None:
+    """Make the mask of `image` again at its next test (it was drawn on in place)."""
+    _image_masks.pop(image, None)
 
 
 def collide_mask(left: Any, right: Any) -> tuple[int, int] | None:
     """The first pixel the masks share, placed at the rects' corners, or None."""
     offset = (right.rect[0] - left.rect[0], right.rect[1] - left.rect[1])
-    return _mask(left).overlap(_mask(right), offset)
+    try:  # (_mask written in twice: a pair's test is a Python call fewer, as pygame's)
+        left_mask = left.mask
+    except AttributeError:
+        left_mask = _image_mask(left.image)
+    try:
+        right_mask = right.mask
+    except AttributeError:
+        right_mask = _image_mask(right.image)
+    return left_mask.overlap(right_mask, offset)
 
 
 RECT_TESTS = frozenset({None, collide_rect, pygame.sprite.collide_rect})
 MASK_TESTS = frozenset({collide_mask, pygame.sprite.collide_mask})
 FAST_TESTS = RECT_TESTS | MASK_TESTS
+PYGAMES_MASK_TEST = pygame.sprite.collide_mask
 GROUP = pygame.sprite.Group
+
+
+def _rect_test(collided: Collided | None) -> bool:
+    """Whether `collided` is the rect test (a caller's predicate may not hash)."""
+    try:
+        return collided in RECT_TESTS
+    except TypeError:
+        return False
 
 
 def spritecollide(sprite: Any, group: Iterable[Any], dokill: bool,
                   collided: Collided | None = None) -> list[Any]:
     """The sprites of `group` that collide with `sprite`, in the group's order; with
     `dokill`, each is killed (taken out of every group) once all are found."""
-    if collided is None:
+    if _rect_test(collided):  # the rect test, without a Python call a sprite
         overlaps = sprite.rect.colliderect
         found = [other for other in group if overlaps(other.rect)]
     else:
-        found = [other for other in group if collided(sprite, other)]
+        if collided is PYGAMES_MASK_TEST:
+            collided = collide_mask  # the same answers, a mask made once per image
+        found = [other for other in group if collided(sprite, other)]  # type: ignore[misc]
     if dokill:
         for other in found:
             other.kill()
@@ -115,14 +158,16 @@ def spritecollide(sprite: Any, group: Iterable[Any], dokill: bool,
 def spritecollideany(sprite: Any, group: Iterable[Any],
                      collided: Collided | None = None) -> Any | None:
     """The first sprite of `group` that collides with `sprite`, or None."""
-    if collided is None:
+    if _rect_test(collided):
         overlaps = sprite.rect.colliderect
         for other in group:
             if overlaps(other.rect):
                 return other
         return None
+    if collided is PYGAMES_MASK_TEST:
+        collided = collide_mask
     for other in group:
-        if collided(sprite, other):
+        if collided(sprite, other):  # type: ignore[misc]
             return other
     return None
 
@@ -132,31 +177,41 @@ def groupcollide(groupa: Iterable[Any], groupb: Iterable[Any], dokilla: bool, do
     """Each sprite of `groupa` that collides with any of `groupb`, with the list of those, as
     pygame gives them: `groupb` looked at again for each sprite of `groupa` (so one that
     `dokillb` killed is not met again), the sprites of `groupa` killed at the end."""
+    try:
+        known = collided in FAST_TESTS
+    except TypeError:  # a caller's predicate that does not hash: pygame calls it all the same
+        known = False
+    if known:
+        try:  # a Group's size, read where it keeps its sprites (its len() is a Python call)
+            pairs = len(groupa.spritedict) * len(groupb.spritedict)  # type: ignore[attr-defined]
+        except AttributeError:
+            pairs = _pairs(groupa, groupb)
+        if pairs >= FAST_FROM:
+            sides = _fast_sides(groupa, groupb)
+            if sides is not None:
+                return _groupcollide_fast(sides, groupb, dokilla, dokillb,
+                                          collided in MASK_TESTS)
+        if collided is PYGAMES_MASK_TEST:
+            collided = collide_mask  # the same answers, a mask made once per image
+    # pygame's own loop, written in here (small groups, where it runs, feel every Python
+    # call): spritecollide inline, `collide_rect` as the rect test it is, and a plain
+    # Group's sprites read as its `sprites()` gives them, from its `spritedict` in order (a
+    # subclass may order them otherwise, LayeredUpdates by layer).
     found: dict[Any, list[Any]] = {}
-    fast = None
-    if collided in FAST_TESTS and _pairs(groupa, groupb) >= FAST_FROM:
-        fast = _fast_sides(groupa, groupb)
-    if fast is None:
-        # pygame's own loop, spritecollide written in (a Python call fewer a sprite: small
-        # groups, where this loop runs, feel it), `collide_rect` as the rect test it is, and
-        # a plain Group's sprites read as its `sprites()` gives them, from its `spritedict`
-        # in order (a subclass may order them otherwise, LayeredUpdates by layer).
-        rects = collided in RECT_TESTS
-        plain = type(groupb) is GROUP
-        for sprite in list(groupa.spritedict) if type(groupa) is GROUP else groupa:  # type: ignore
-            others = list(groupb.spritedict) if plain else groupb  # type: ignore[attr-defined]
-            if rects:
-                overlaps = sprite.rect.colliderect
-                hits = [other for other in others if overlaps(other.rect)]
-            else:
-                hits = [other for other in others if collided(sprite, other)]
-            if hits:
-                found[sprite] = hits
-                if dokillb:
-                    for other in hits:
-                        other.kill()
-    else:
-        _groupcollide_fast(fast, groupb, dokillb, collided in MASK_TESTS, found)
+    rects = known and collided in RECT_TESTS
+    plain = type(groupb) is GROUP
+    for sprite in list(groupa.spritedict) if type(groupa) is GROUP else groupa:  # type: ignore
+        others = list(groupb.spritedict) if plain else groupb  # type: ignore[attr-defined]
+        if rects:
+            overlaps = sprite.rect.colliderect
+            hits = [other for other in others if overlaps(other.rect)]
+        else:
+            hits = [other for other in others if collided(sprite, other)]  # type: ignore
+        if hits:
+            found[sprite] = hits
+            if dokillb:
+                for other in hits:
+                    other.kill()
     if dokilla:
         for sprite in found:
             sprite.kill()
@@ -191,11 +246,12 @@ def _fast_sides(groupa: Iterable[Any], groupb: Iterable[Any]
 
 
 def _groupcollide_fast(sides: tuple[list[Any], list[Any]], groupb: Iterable[Any],
-                       dokillb: bool, masks: bool, found: dict[Any, list[Any]]) -> None:
+                       dokilla: bool, dokillb: bool, masks: bool) -> dict[Any, list[Any]]:
     """The loop of `groupcollide` with each sprite of the first group tested against all of
     the second in one C call, on the boxes that can meet: the rects, or for masks the
     masks' own boxes at the rects' corners, then the masks themselves."""
     side_a, side_b = sides
+    found: dict[Any, list[Any]] = {}
     if masks:  # (the first sprite meets all of the second group: pygame makes all theirs)
         mask_b = [_mask(s) for s in side_b]
         boxes_b = [pygame.Rect(s.rect.topleft, m.get_size())
@@ -227,3 +283,7 @@ def _groupcollide_fast(sides: tuple[list[Any], list[Any]], groupb: Iterable[Any]
                 boxes_b = [boxes_b[i] for i in keep]
                 if masks:
                     mask_b = [mask_b[i] for i in keep]
+    if dokilla:
+        for sprite in found:
+            sprite.kill()
+    return found

@@ -450,5 +450,5 @@ def bench(ticks: int = 3600, seed: int = 7, rounds: int = 10, ale: bool = False,
         big_scenes(rounds, goal)
     from invaders.lab.bench_sprites import sprite_table
 
-    sprite_table(rounds, goal)
+    sprite_table(rounds, goal, big)
     return 1 if missed_goals else 0
