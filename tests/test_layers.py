@@ -1,4 +1,5 @@
-"""The layers point one way: app and lab -> game -> engine, and no module cycle anywhere.
+"""The layers point one way: app, env and lab -> game -> engine, and no module cycle anywhere;
+Gymnasium (an optional extra) is imported by the environment alone.
 
 Every import counts, wherever it stands: at the top, inside a function, or under
 `if TYPE_CHECKING:`. The checker is tested on a made-up package first, so a pass means
@@ -19,7 +20,8 @@ ALLOWED = {
     "engine": {"base"},
     "game": {"base", "engine"},
     "lab": {"base", "engine", "game"},
-    "app": {"base", "engine", "game", "lab"},
+    "app": {"base", "engine", "game", "lab", "env"},  # (the bench times the environment)
+    "env": {"base", "engine", "game", "lab"},  # never the window's app
     "entry": {"base", "app"},
 }
 
@@ -187,3 +189,16 @@ def test_the_checker_finds_a_cycle_inside_one_layer(tmp_path):
         "game/d.py": "from pkg.game.a import thing\n",
     })
     assert violations(graph, "pkg") == ["pkg.game.a -> pkg.game.b -> pkg.game.c -> pkg.game.a"]
+
+
+def test_only_the_environment_imports_gymnasium():
+    outside = []
+    for path in sorted((ROOT / "invaders").rglob("*.py")):
+        if path.parent.name == "env":
+            continue
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                     [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+            outside += [f"{path.name}: {n}" for n in names if n.split(".")[0] == "gymnasium"]
+    assert outside == []
+    assert "gymnasium" in (ROOT / "invaders" / "env" / "space_invaders.py").read_text()

@@ -163,6 +163,9 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
                             "broad phase, the automatic choice and pymunk")
     bench.add_argument("--rounds", type=_int_in("--rounds", 3, 100), default=10,
                        help="interleaved rounds; figures are medians over them")
+    bench.add_argument("--env", action="store_true",
+                       help="instead, the Gymnasium environment against ALE's, step for step "
+                            "(needs the rl extra; ALE with the compare extra)")
     bench.add_argument("--against", metavar="REV",
                        help="instead, this tree's game speed against a git revision's "
                             "(checked out in a temporary worktree), game by game in turn")
@@ -302,6 +305,12 @@ def cmd_bench(args: argparse.Namespace) -> int:
             return against(args.against, args.ticks, args.seed, args.rounds)
         except AgainstError as err:
             raise UsageError(str(err)) from None
+    if args.env:
+        try:
+            from invaders.env.speed import env_table
+        except ImportError:
+            raise UsageError("--env needs gymnasium: pip install -e '.[rl]'") from None
+        return env_table(args.rounds)
     if args.ale:
         from invaders.lab.ale import available
 

@@ -1,0 +1,15 @@
+"""Space Invaders for reinforcement learning: `gymnasium.make("invaders/SpaceInvaders-v0")`
+once this package is imported (Gymnasium is the `[rl]` extra; nothing else imports it)."""
+
+from __future__ import annotations
+
+import gymnasium
+
+from invaders.env.space_invaders import SpaceInvadersEnv
+
+ENV_ID = "invaders/SpaceInvaders-v0"
+
+if ENV_ID not in gymnasium.registry:
+    gymnasium.register(ENV_ID, entry_point="invaders.env.space_invaders:SpaceInvadersEnv")
+
+__all__ = ["ENV_ID", "SpaceInvadersEnv"]

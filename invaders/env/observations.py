@@ -1,0 +1,85 @@
+"""What an agent sees: the picture as an array, or the game's objects as numbers.
+
+The pixel observations come from the same picture the window shows (`invaders.lab.picture`,
+drawn white on black), drawn straight into an array (the picture's surface is made over the
+array's memory) and tinted with the cabinet's gel by one numpy operation into an array kept
+between steps: every drawn pixel is pure white, so the tinted picture is the gel where the
+pixel is lit (255 & g == g) and black elsewhere (0 & g == 0), exactly what the window's
+multiply blend gives (a test holds the two equal pixel for pixel).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pygame
+
+from invaders.game.config import SCREEN_H, SCREEN_W
+from invaders.game.entities import CannonState
+from invaders.game.world import World
+from invaders.lab.picture import Picture
+
+# ITU-R BT.601 luma, in integers: the grey a monochrome monitor would show for each colour.
+LUMA = (299, 587, 114)
+
+
+def _gel_array(picture: Picture) -> np.ndarray:
+    """The gel as an upright (256, 224, 3) array."""
+    return np.ascontiguousarray(pygame.surfarray.array3d(picture.gel).transpose(1, 0, 2))
+
+
+class PixelObserver:
+    """Draws a world and reads it into a kept array: RGB (256, 224, 3) or grey (256, 224)."""
+
+    def __init__(self, grayscale: bool) -> None:
+        self.canvas = np.zeros((SCREEN_H, SCREEN_W, 3), np.uint8)  # what is drawn, untinted
+        self.picture = Picture(pygame.image.frombuffer(self.canvas, (SCREEN_W, SCREEN_H), "RGB"))
+        gel = _gel_array(self.picture)
+        if grayscale:
+            weights = np.array(LUMA, dtype=np.uint32)
+            self.gel = ((gel.astype(np.uint32) @ weights + 500) // 1000).astype(np.uint8)
+            self.out = np.zeros((SCREEN_H, SCREEN_W), np.uint8)
+        else:
+            self.gel = gel
+            self.out = np.zeros((SCREEN_H, SCREEN_W, 3), np.uint8)
+        self.grayscale = grayscale
+
+    def observe(self, world: World) -> np.ndarray:
+        """The world's picture in `out` (the same array each time: copy it to keep it)."""
+        self.picture.draw(world)
+        lit = self.canvas[:, :, 0] if self.grayscale else self.canvas
+        return np.bitwise_and(lit, self.gel, out=self.out)
+
+
+# The state vector, field by field: (name, how many numbers, what they are).
+STATE_FIELDS = (
+    ("cannon", 2, "x of the cannon's box, and 1 while it can be hit (0 waiting or exploding)"),
+    ("shot", 3, "1 while the player's shot flies, its x and top (0, 0 without one)"),
+    ("bombs", 9, "per bomb slot (rolling, plunger, squiggly): 1 if falling, its x and top"),
+    ("aliens", 165, "per rack place (row 0 the bottom, col 0 the left): 1 if alive, x, top"),
+    ("saucer", 2, "1 while the saucer flies, its x"),
+    ("shields", 4, "lit pixels left in each shield, left to right"),
+    ("game", 3, "score, ships left, wave"),
+)
+STATE_SIZE = sum(count for _, count, _ in STATE_FIELDS)
+STATE_HIGH = 1e6  # no field is negative; the score is the largest (the counter shows 9999)
+
+
+def observe_state(world: World, out: np.ndarray) -> np.ndarray:
+    """The game's objects as numbers, written into `out` (float32, STATE_SIZE)."""
+    values: list[float] = []
+    cannon = world.cannon
+    values += (cannon.x, 1.0 if cannon.state is CannonState.ACTIVE else 0.0)
+    shot = world.shot
+    values += (1.0, shot.x, shot.y) if shot is not None else (0.0, 0.0, 0.0)
+    for slot in world.slots:
+        bomb = slot.bomb
+        values += (1.0, bomb.x, bomb.y) if bomb is not None else (0.0, 0.0, 0.0)
+    for alien in world.rack.aliens:
+        values += ((1.0, alien.x, alien.top) if alien is not None and alien.alive
+                   else (0.0, 0.0, 0.0))
+    flying = world.saucer.saucer
+    values += (1.0, flying.x) if flying is not None else (0.0, 0.0)
+    values += (bunker.mask.count() for bunker in world.bunkers)
+    values += (world.score, max(world.ships, 0), world.wave)
+    out[:] = values
+    return out

@@ -1,0 +1,220 @@
+"""Space Invaders (the 1978 arcade game) as a Gymnasium environment, with ALE's conventions.
+
+An agent's code written for `ALE/SpaceInvaders-v5` runs unchanged: the same six actions in
+the same order (18 with `full_action_space`), frame skip 4 and sticky actions at 0.25 by
+default, reward the score gained, `terminated` at game over, `truncated` at the frame limit,
+`info` with `lives`, `episode_frame_number` and `frame_number`. What ALE does not give:
+the step's events and collision counters in `info`, a state observation of the game's
+objects, and every episode written as a replay that `invaders replay` checks.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, ClassVar
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from invaders.atomic import write_atomic
+from invaders.engine.stats import CollisionStats
+from invaders.env.observations import STATE_HIGH, STATE_SIZE, PixelObserver, observe_state
+from invaders.game.actions import Action
+from invaders.game.config import DEFAULT_CONFIG, SCREEN_H, SCREEN_W
+from invaders.game.replay import CHECKPOINT_EVERY, Checkpoint, Replay
+from invaders.game.world import Phase, World
+
+NOOP, FIRE = 0, int(Action.FIRE)
+LEFT, RIGHT = int(Action.LEFT), int(Action.RIGHT)
+# ALE's minimal set for Space Invaders, in ALE's order, as our input bits.
+MINIMAL_ACTIONS = (NOOP, FIRE, RIGHT, LEFT, RIGHT | FIRE, LEFT | FIRE)
+MINIMAL_MEANINGS = ("NOOP", "FIRE", "RIGHT", "LEFT", "RIGHTFIRE", "LEFTFIRE")
+# ALE's full set: up and down do nothing in this game.
+FULL_MEANINGS = ("NOOP", "FIRE", "UP", "RIGHT", "LEFT", "DOWN", "UPRIGHT", "UPLEFT",
+                 "DOWNRIGHT", "DOWNLEFT", "UPFIRE", "RIGHTFIRE", "LEFTFIRE", "DOWNFIRE",
+                 "UPRIGHTFIRE", "UPLEFTFIRE", "DOWNRIGHTFIRE", "DOWNLEFTFIRE")
+OBS_TYPES = ("rgb", "grayscale", "state")
+MAX_FRAMES = 108_000  # ALE v5's frames an episode (30 minutes at 60 Hz): then truncated
+
+
+def _bits(meaning: str) -> int:
+    return (FIRE if "FIRE" in meaning else 0) | (RIGHT if "RIGHT" in meaning else 0) | (
+        LEFT if "LEFT" in meaning else 0)
+
+
+class SpaceInvadersEnv(gym.Env):
+    """One game a episode, from its first wave to game over; see the module docstring."""
+
+    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["human", "rgb_array"], "render_fps": 60}
+
+    def __init__(self, obs_type: str = "rgb", frameskip: int | tuple[int, int] = 4,
+                 repeat_action_probability: float = 0.25, full_action_space: bool = False,
+                 max_num_frames_per_episode: int = MAX_FRAMES, render_mode: str | None = None,
+                 record: str | Path | None = None) -> None:
+        if obs_type not in OBS_TYPES:
+            raise ValueError(f"obs_type {obs_type!r}: choose from {', '.join(OBS_TYPES)}")
+        if not _valid_skip(frameskip):
+            raise ValueError(f"frameskip {frameskip!r}: a whole number >= 1 or (low, high)")
+        if not 0.0 <= repeat_action_probability <= 1.0:
+            raise ValueError(f"repeat_action_probability {repeat_action_probability}: 0 to 1")
+        if render_mode not in (None, *self.metadata["render_modes"]):
+            raise ValueError(f"render_mode {render_mode!r}: None, 'human' or 'rgb_array'")
+        self.obs_type, self.frameskip = obs_type, frameskip
+        self.repeat_action_probability = repeat_action_probability
+        self.max_num_frames_per_episode = max_num_frames_per_episode
+        self.render_mode = render_mode
+        meanings = FULL_MEANINGS if full_action_space else MINIMAL_MEANINGS
+        self._meanings = meanings
+        self._actions = tuple(_bits(m) for m in meanings)
+        self.action_space = spaces.Discrete(len(meanings))
+        self.observation_space = _space(obs_type)
+        self._pixels = PixelObserver(obs_type == "grayscale") if obs_type != "state" else None
+        self._state = np.zeros(STATE_SIZE, np.float32)
+        self._shown: PixelObserver | None = None  # for render(), when observations are not RGB
+        self._window = None
+        self._record = Path(record) if record is not None else None
+        self._replay: Replay | None = None
+        self._episodes = 0
+        self.frame_number = 0
+        self.world: World | None = None
+
+    def get_action_meanings(self) -> list[str]:
+        return list(self._meanings)
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None
+              ) -> tuple[np.ndarray, dict[str, Any]]:
+        super().reset(seed=seed)
+        self._save_episode()
+        if seed is not None:  # as ALE, which loads its cartridge again when seeded
+            self.frame_number = 0
+        world_seed = int(self.np_random.integers(0, 2**31 - 1))
+        self.world = World(world_seed, DEFAULT_CONFIG)
+        self._previous = NOOP  # sticky actions repeat this, as ALE's start from NOOP
+        self._episode_frames = 0
+        if self._record is not None:
+            self._replay = Replay(world_seed, DEFAULT_CONFIG)
+            self._replay.checkpoints.append(Checkpoint.of(self.world))
+        if self.render_mode == "human":
+            self.render()
+        return self._observe(), self._info((), [0] * len(CollisionStats._fields))
+
+    def step(self, action: int) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        if self.world is None:
+            raise RuntimeError("call reset() before step()")
+        if not self.action_space.contains(action):
+            raise ValueError(f"action {action!r} is not in {self.action_space}")
+        world, wanted = self.world, self._actions[int(action)]
+        score = world.score
+        events: list[str] = []
+        counters = [0] * len(CollisionStats._fields)
+        for _ in range(self._skip()):
+            sticks = self.np_random.random() < self.repeat_action_probability
+            bits = self._previous if sticks else wanted  # sticky: the last frame's input again
+            self._previous = bits
+            report = world.step(bits)
+            self._note(bits)
+            events += (event.name for event in report.events)
+            counters = [a + b for a, b in zip(counters, report.stats, strict=True)]
+            self._episode_frames += 1
+            self.frame_number += 1
+            if world.phase is Phase.GAME_OVER:
+                break
+        terminated = world.phase is Phase.GAME_OVER
+        truncated = not terminated and self._episode_frames >= self.max_num_frames_per_episode
+        if terminated or truncated:
+            self._save_episode()
+        if self.render_mode == "human":
+            self.render()
+        return (self._observe(), float(world.score - score), terminated, truncated,
+                self._info(events, counters))
+
+    def render(self) -> np.ndarray | None:
+        """The RGB picture (rgb_array), or the picture shown in a window (human)."""
+        if self.world is None or self.render_mode is None:
+            return None
+        if self._pixels is not None and not self._pixels.grayscale:
+            picture = self._pixels.observe(self.world)
+        else:
+            self._shown = self._shown or PixelObserver(grayscale=False)
+            picture = self._shown.observe(self.world)
+        if self.render_mode == "rgb_array":
+            return picture.copy()
+        self._show(picture)
+        return None
+
+    def close(self) -> None:
+        self._save_episode()
+        if self._window is not None:
+            import pygame
+
+            pygame.display.quit()
+            self._window = None
+
+    # --- inside ---------------------------------------------------------------------------
+    def _skip(self) -> int:
+        if isinstance(self.frameskip, int):
+            return self.frameskip
+        return int(self.np_random.integers(self.frameskip[0], self.frameskip[1]))
+
+    def _observe(self) -> np.ndarray:
+        assert self.world is not None
+        if self._pixels is None:
+            return observe_state(self.world, self._state).copy()
+        return self._pixels.observe(self.world).copy()
+
+    def _info(self, events: list[str] | tuple[()], counters: list[int]) -> dict[str, Any]:
+        assert self.world is not None
+        return {"lives": max(self.world.ships, 0), "episode_frame_number": self._episode_frames,
+                "frame_number": self.frame_number, "events": tuple(events),
+                "collisions": dict(zip(CollisionStats._fields, counters, strict=True)),
+                "seed": self.world.seed}
+
+    def _note(self, bits: int) -> None:
+        """The tick into the episode's replay, with a checkpoint where the format keeps one."""
+        replay = self._replay
+        if replay is not None:
+            replay.append(bits)
+            if self.world.tick % CHECKPOINT_EVERY == 0:  # type: ignore[union-attr]
+                replay.checkpoints.append(Checkpoint.of(self.world))  # type: ignore[arg-type]
+
+    def _save_episode(self) -> None:
+        """Write the episode played so far as a replay (once; nothing if none was played)."""
+        replay, world = self._replay, self.world
+        self._replay = None
+        if replay is None or world is None or not replay.ticks or self._record is None:
+            return
+        if replay.checkpoints[-1].tick != world.tick:
+            replay.checkpoints.append(Checkpoint.of(world))
+        self._episodes += 1
+        self._record.mkdir(parents=True, exist_ok=True)
+        name = f"episode-{self._episodes:05d}-seed-{replay.seed}.json"
+        write_atomic(self._record / name, "".join(replay.lines()))
+
+    def _show(self, picture: np.ndarray) -> None:
+        import pygame
+
+        if self._window is None:
+            pygame.display.init()
+            self._window = pygame.display.set_mode((SCREEN_W * 3, SCREEN_H * 3))
+            pygame.display.set_caption("invaders: SpaceInvaders-v0")
+        pygame.event.pump()
+        surface = pygame.surfarray.make_surface(picture.transpose(1, 0, 2))
+        pygame.transform.scale(surface, self._window.get_size(), self._window)
+        pygame.display.flip()
+
+
+def _valid_skip(frameskip: Any) -> bool:
+    """A whole number from 1, or ALE's (low, high) range, drawn from per step."""
+    if isinstance(frameskip, tuple):
+        return (len(frameskip) == 2 and all(isinstance(n, int) for n in frameskip)
+                and 1 <= frameskip[0] < frameskip[1])
+    return isinstance(frameskip, int) and frameskip >= 1
+
+
+def _space(obs_type: str) -> spaces.Box:
+    if obs_type == "rgb":
+        return spaces.Box(0, 255, (SCREEN_H, SCREEN_W, 3), np.uint8)
+    if obs_type == "grayscale":
+        return spaces.Box(0, 255, (SCREEN_H, SCREEN_W), np.uint8)
+    return spaces.Box(0.0, STATE_HIGH, (STATE_SIZE,), np.float32)

@@ -1,0 +1,94 @@
+"""The environment against ALE's own Gymnasium environment, step for step: `invaders bench
+--ale` prints this table. Both with ALE v5's settings (frame skip 4, sticky actions 0.25),
+the same fixed cycle of actions, the observation types paired as a learner would pair them
+(our picture against ALE's, our state vector against ALE's 128 bytes of RAM). Each round
+times every contender for about a quarter of a second, the order reversed from round to
+round; figures are medians over the rounds, ratios the median of the per-round ratios.
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+from collections.abc import Callable
+from typing import Any
+
+import gymnasium
+
+from invaders.env.space_invaders import SpaceInvadersEnv
+from invaders.lab.ale import available
+from invaders.lab.timing import no_gc
+
+PAIRS = (("rgb", "rgb", 5.0), ("grayscale", "grayscale", 5.0), ("state", "ram", 8.0))
+CYCLE = (1, 2, 2, 2, 0, 1, 3, 3, 3, 0, 4, 5)  # ALE's minimal actions, both sides alike
+ROUND_SECONDS = 0.25
+
+
+def _stepper(env: Any) -> Callable[[int], float]:
+    """Seconds for n steps of the cycle; an episode that ends is reset inside the time, as a
+    learner's loop does."""
+    env.reset(seed=0)
+
+    def run(n: int) -> float:
+        step, reset = env.step, env.reset
+        with no_gc():
+            start = time.perf_counter()
+            for i in range(n):
+                _, _, terminated, truncated, _ = step(CYCLE[i % len(CYCLE)])
+                if terminated or truncated:
+                    reset()
+            return time.perf_counter() - start
+
+    return run
+
+
+def ale_env(obs_type: str) -> Any:
+    import ale_py
+
+    gymnasium.register_envs(ale_py)
+    return gymnasium.make("ALE/SpaceInvaders-v5", obs_type=obs_type, frameskip=4,
+                          repeat_action_probability=0.25)
+
+
+def env_table(rounds: int) -> int:
+    """Print ours against ALE per observation type with the goals as ratios (ours alone,
+    said in one line, without ale-py); 1 if a goal is missed."""
+    print("invaders bench --env: the Gymnasium environment against ALE's "
+          f"(ALE/SpaceInvaders-v5), frame skip 4, sticky actions 0.25, {rounds} interleaved "
+          "rounds: steps a second, median (lowest..highest round)")
+    with_ale = available()
+    if not with_ale:
+        print("   ALE skipped: install the compare extra (ale-py) to time it beside ours")
+    missed = 0
+    for ours_type, theirs_type, target in PAIRS:
+        runs = {"ours": _stepper(SpaceInvadersEnv(obs_type=ours_type))}
+        if with_ale:
+            runs["ALE"] = _stepper(ale_env(theirs_type))
+        rates = _rates(runs, rounds)
+        line = f"   ours {ours_type:<9} {_figure(rates['ours'])}"
+        if with_ale:
+            ratios = [a / b for a, b in zip(rates["ours"], rates["ALE"], strict=True)]
+            met = statistics.median(ratios) >= target
+            missed += not met
+            line += (f"   ALE {theirs_type:<9} {_figure(rates['ALE'])}   "
+                     f"{statistics.median(ratios):.1f}x ({min(ratios):.1f}..{max(ratios):.1f})"
+                     f"   goal >= {target:.0f}x: {'met' if met else 'NOT met'}")
+        print(line)
+    return 1 if missed else 0
+
+
+def _rates(runs: dict[str, Callable[[int], float]], rounds: int) -> dict[str, list[float]]:
+    """Steps a second per round for each contender, taking turns."""
+    counts = {who: max(1, int(ROUND_SECONDS / max(run(20) / 20, 1e-7)))
+              for who, run in runs.items()}
+    rates: dict[str, list[float]] = {who: [] for who in runs}
+    order = list(runs)
+    for index in range(rounds):
+        for who in order if index % 2 == 0 else order[::-1]:
+            rates[who].append(counts[who] / runs[who](counts[who]))
+    return rates
+
+
+def _figure(rates: list[float]) -> str:
+    return (f"{statistics.median(rates):>7,.0f} steps/s "
+            f"({min(rates):,.0f}..{max(rates):,.0f})")

@@ -1,0 +1,175 @@
+"""A world drawn into the logical 224x256 picture: the window's and the environment's.
+
+Everything is drawn in white, then tinted by the cabinet's coloured gel strips (red over the
+saucer lane, green over the shields and the cannon). No display is needed: the picture is a
+plain surface, which the window scales and the environment reads as an array.
+"""
+
+from __future__ import annotations
+
+import pygame
+
+from invaders.game import art
+from invaders.game.config import SCREEN_H, SCREEN_W
+from invaders.game.entities import BOMB_PICTURES, CannonState
+from invaders.game.world import Phase, World
+from invaders.lab import font
+
+WHITE = (255, 255, 255, 255)
+BACKGROUND = (0, 0, 0)
+RED_GEL = (255, 64, 64)
+GREEN_GEL = (64, 255, 64)
+GEL_STRIPS = ((RED_GEL, (0, 32, SCREEN_W, 32)), (GREEN_GEL, (0, 184, SCREEN_W, 56)),
+              (GREEN_GEL, (24, 240, 112, 16)))
+
+
+def gel_surface() -> pygame.Surface:
+    """Per-row tint: the cabinet's strips of coloured film over a white monitor."""
+    gel = pygame.Surface((SCREEN_W, SCREEN_H))
+    gel.fill((255, 255, 255))
+    for colour, rect in GEL_STRIPS:
+        gel.fill(colour, pygame.Rect(rect))
+    return gel
+
+
+TEXTS_KEPT = 256  # lines of text kept drawn (the score bar's change only with the score)
+
+
+class Picture:
+    """The logical screen, its sprites' surfaces and the gel, kept between frames. The
+    screen may be given: a surface over an array's memory (`pygame.image.frombuffer`)
+    makes every drawing land in the array."""
+
+    def __init__(self, screen: pygame.Surface | None = None) -> None:
+        self.screen = screen if screen is not None else pygame.Surface((SCREEN_W, SCREEN_H))
+        self.gel = gel_surface()
+        self._sprites: dict[art.Art, pygame.Surface] = {}
+        self._texts: dict[str, pygame.Surface] = {}
+
+    def sprite(self, picture: art.Art) -> pygame.Surface:
+        surface = self._sprites.get(picture)
+        if surface is None:
+            surface = self._sprites[picture] = _keyed(art.surface_of(picture, WHITE))
+        return surface
+
+    def text(self, message: str, x: int, y: int) -> None:
+        """A line of text at (x, y), its glyphs drawn together once and kept."""
+        line = self._texts.get(message)
+        if line is None:
+            if len(self._texts) >= TEXTS_KEPT:
+                self._texts.clear()
+            line = pygame.Surface((max(len(message), 1) * font.ADVANCE, 8))
+            for i, ch in enumerate(message):
+                line.blit(self.sprite(font.glyph(ch)), (i * font.ADVANCE, 0))
+            line.set_colorkey(BACKGROUND, pygame.RLEACCEL)
+            self._texts[message] = line
+        self.screen.blit(line, (x, y))
+
+    def draw(self, world: World, alpha: float = 0.0) -> pygame.Surface:
+        """The world in white on black (movers `alpha` of a tick on), not yet tinted: the
+        score bar, the playfield and, once the game is over, its message."""
+        self.screen.fill(BACKGROUND)
+        self._draw_hud(world)
+        self._draw_play(world, alpha)
+        if world.phase is Phase.GAME_OVER:
+            for message, x, y in game_over_texts():
+                self.text(message, x, y)
+        return self.screen
+
+    def draw_card(self, world: World, texts: list[tuple[str, int, int]],
+                  pictures: list[tuple[art.Art, int, int]]) -> pygame.Surface:
+        """A still screen of the attract cycle: the score bar, texts and pictures."""
+        self.screen.fill(BACKGROUND)
+        self._draw_hud(world)
+        for message, x, y in texts:
+            self.text(message, x, y)
+        for picture, x, y in pictures:
+            self.screen.blit(self.sprite(picture), (x, y))
+        return self.screen
+
+    def tint(self) -> pygame.Surface:
+        """The screen under the cabinet's gel, as the player sees it."""
+        self.screen.blit(self.gel, (0, 0), special_flags=pygame.BLEND_RGB_MULT)
+        return self.screen
+
+    def _draw_hud(self, world: World) -> None:
+        for message, x, y in hud_texts(world):
+            self.text(message, x, y)
+        world.ground.to_surface(self.screen, setcolor=WHITE, unsetcolor=None,
+                                dest=(0, world.config.geometry.ground_row))
+        ships = max(world.ships, 0)
+        cannon = self.sprite(art.CANNON)
+        for i in range(min(ships - 1, 6)):
+            self.screen.blit(cannon, (24 + 16 * i, 240))
+
+    def _draw_play(self, world: World, alpha: float) -> None:
+        blit = self.screen.blit
+        for bunker in world.bunkers:
+            bunker.mask.to_surface(self.screen, setcolor=WHITE, unsetcolor=None,
+                                   dest=(bunker.x, bunker.y))
+        for alien in world.rack.live_aliens():
+            pictures = art.ALIEN_BY_ROW[alien.row]
+            blit(self.sprite(pictures[alien.frame]), (alien.x, alien.top))
+        for explosion in world.explosions:
+            picture = art.ALIEN_EXPLOSION if explosion.blast.value == "alien" else art.SHOT_BURST
+            blit(self.sprite(picture), (explosion.x, explosion.y))
+        cannon = world.cannon
+        if cannon.state is CannonState.ACTIVE:
+            blit(self.sprite(art.CANNON), (cannon.x, cannon.y))
+        elif cannon.state is CannonState.EXPLODING and cannon.timer > 0:  # debris then clears
+            frame = (cannon.timer // world.config.timing.cannon_death_swap) % 2
+            blit(self.sprite(art.CANNON_DEATH[frame]), (cannon.x, cannon.y))
+        if world.shot is not None:
+            blit(self.sprite(art.SHOT), _lerp(world.shot, world.tick, alpha))
+        for slot in world.slots:
+            if slot.bomb is not None:
+                picture = BOMB_PICTURES[slot.btype][slot.bomb.frame]
+                blit(self.sprite(picture), _lerp(slot.bomb, world.tick, alpha))
+            elif slot.burst > 0:
+                blit(self.sprite(art.BOMB_BURST), (slot.burst_x, slot.burst_y))
+        state = world.saucer
+        lane = world.config.geometry.saucer_top
+        if state.saucer is not None:
+            blit(self.sprite(art.SAUCER), _lerp(state.saucer, world.tick, alpha))
+        elif state.hit_steps > world.config.timing.saucer_boom_until:
+            blit(self.sprite(art.SAUCER_EXPLOSION), (state.hit_x, lane))
+        elif state.hit_steps > 0:
+            self.text(str(state.hit_score), state.hit_x + 4, lane)
+
+
+def _keyed(picture: pygame.Surface) -> pygame.Surface:
+    """A white-on-transparent picture as white on a colour key: the same pixels drawn, and
+    the cheapest blit there is (run-length coded), where per-pixel alpha is the dearest."""
+    keyed = pygame.Surface(picture.get_size())
+    keyed.blit(picture, (0, 0))
+    keyed.set_colorkey(BACKGROUND, pygame.RLEACCEL)
+    return keyed
+
+
+def game_over_texts() -> list[tuple[str, int, int]]:
+    """GAME OVER and how to start again, centred in the rows just below the saucer's lane:
+    the rack never rises above its first rows, so nothing is drawn over it however low it
+    has come. UNCERTAIN: our notes do not give the original's place for the text."""
+    return [("GAME OVER", (SCREEN_W - 8 * 9) // 2, 48),
+            ("PRESS ENTER", (SCREEN_W - 8 * 11) // 2, 56)]
+
+
+def hud_texts(world: World) -> list[tuple[str, int, int]]:
+    """The score bar and the bottom line as the original lays them out: the header with both
+    players' scores, the high score (which changes only when a game ends, 166D-1695), the
+    ships left, and the credit count; no wave label."""
+    return [
+        ("SCORE<1> HI-SCORE SCORE<2>", 8, 8),
+        (f"{world.score:04d}", 24, 24),
+        (f"{world.hi_score:04d}", 88, 24),
+        ("0000", 168, 24),
+        (str(max(world.ships, 0)), 8, 240),
+        ("CREDIT 00", 136, 240),
+    ]
+
+
+def _lerp(body, tick: int, alpha: float) -> tuple[int, int]:
+    """Between the previous tick's position and the current one, `alpha` of the way: the
+    render runs up to one tick behind, but never shows a place the simulation did not."""
+    px, py = body.start_of_tick(tick - 1)
+    return round(px + (body.x - px) * alpha), round(py + (body.y - py) * alpha)

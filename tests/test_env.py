@@ -1,0 +1,208 @@
+"""The Gymnasium environment: Gymnasium's own checker, ALE's conventions (actions, frame
+skip, sticky actions, lives, frame numbers), pictures equal to the window's, rewards that
+add up to the score, and every episode a replay that checks."""
+
+from __future__ import annotations
+
+import gymnasium
+import numpy as np
+import pygame
+import pytest
+from gymnasium.utils import seeding
+from gymnasium.utils.env_checker import check_env
+
+import invaders.env  # noqa: F401  (registers the id)
+from invaders.app.cli import main
+from invaders.app.render import Renderer
+from invaders.env.observations import STATE_SIZE, observe_state
+from invaders.env.space_invaders import MINIMAL_ACTIONS, SpaceInvadersEnv
+from invaders.game.actions import Action
+from invaders.game.replay import load
+from invaders.game.world import Phase
+from invaders.lab.autopilot import Autopilot
+
+ENV_ID = "invaders/SpaceInvaders-v0"
+
+
+@pytest.mark.parametrize("obs_type", ["rgb", "grayscale", "state"])
+def test_gymnasiums_own_checker_passes(obs_type):
+    env = gymnasium.make(ENV_ID, obs_type=obs_type)
+    check_env(env.unwrapped, skip_render_check=True)
+    env.close()
+
+
+def test_the_actions_are_ales_minimal_set_in_ales_order():
+    env = gymnasium.make(ENV_ID)
+    assert env.unwrapped.get_action_meanings() == [
+        "NOOP", "FIRE", "RIGHT", "LEFT", "RIGHTFIRE", "LEFTFIRE"]
+    full = gymnasium.make(ENV_ID, full_action_space=True)
+    assert full.action_space.n == 18 and full.unwrapped.get_action_meanings()[11] == "RIGHTFIRE"
+    fire, left = int(Action.FIRE), int(Action.LEFT)
+    right = int(Action.RIGHT)
+    assert list(MINIMAL_ACTIONS) == [0, fire, right, left, right | fire, left | fire]
+
+
+def _picture_in_the_window(world) -> np.ndarray:
+    target = pygame.Surface((224, 256))
+    Renderer(scale=1).draw(target, world)
+    return pygame.surfarray.array3d(target).transpose(1, 0, 2)
+
+
+def _play(env, seed: int, steps: int, actions=(1, 2, 4, 0, 5, 3)) -> list:
+    out = []
+    obs, _ = env.reset(seed=seed)
+    for i in range(steps):
+        obs, reward, terminated, truncated, info = env.step(actions[i % len(actions)])
+        out.append((obs.copy(), reward, terminated, truncated, info))
+        if terminated or truncated:
+            break
+    return out
+
+
+def test_pixel_observations_are_the_windows_picture_pixel_for_pixel():
+    rgb = SpaceInvadersEnv(obs_type="rgb")
+    grey = SpaceInvadersEnv(obs_type="grayscale")
+    for steps in (1, 40, 300):
+        seen = _play(rgb, 5, steps)[-1][0]
+        window = _picture_in_the_window(rgb.world)
+        assert seen.shape == (256, 224, 3) and np.array_equal(seen, window)
+        colours = {tuple(c) for c in np.unique(window.reshape(-1, 3), axis=0)}
+        assert {(0, 0, 0), (255, 255, 255), (64, 255, 64)} <= colours <= {
+            (0, 0, 0), (255, 255, 255), (64, 255, 64), (255, 64, 64)}  # the gel's strips
+        grey_seen = _play(grey, 5, steps)[-1][0]
+        luma = (window.astype(np.uint32) @ np.array([299, 587, 114]) + 500) // 1000
+        assert np.array_equal(grey_seen, luma.astype(np.uint8))
+
+
+def test_the_state_vector_reads_the_worlds_objects():
+    env = SpaceInvadersEnv(obs_type="state")
+    _play(env, 2, 200)
+    world = env.world
+    state = observe_state(world, np.zeros(STATE_SIZE, np.float32))
+    assert state.shape == (188,)
+    assert state[0] == world.cannon.x
+    aliens = state[14:179].reshape(55, 3)
+    assert int(aliens[:, 0].sum()) == len(world.rack.live_aliens())
+    first = world.rack.live_aliens()[0]
+    assert tuple(aliens[first.index]) == (1.0, first.x, first.top)
+    assert list(state[181:185]) == [b.mask.count() for b in world.bunkers]
+    assert list(state[185:]) == [world.score, world.ships, world.wave]
+
+
+def test_the_same_seed_and_actions_give_the_same_episode_and_other_seeds_another():
+    def episode(seed):
+        env = SpaceInvadersEnv(obs_type="state")
+        steps = _play(env, seed, 400)
+        return env.world.state_hash(), [s[1] for s in steps], steps[-1][0]
+
+    first, again, other = episode(11), episode(11), episode(12)
+    assert first[0] == again[0] and first[1] == again[1]
+    assert np.array_equal(first[2], again[2])
+    assert other[0] != first[0]
+
+
+def _autopilot_action(bits: int) -> int:
+    """The minimal action nearest an autopilot's input bits (it never asks for up or down)."""
+    bits &= int(Action.LEFT | Action.RIGHT | Action.FIRE)
+    return MINIMAL_ACTIONS.index(bits) if bits in MINIMAL_ACTIONS else 0
+
+
+@pytest.mark.parametrize("agent", ["random", "autopilot"])
+def test_rewards_add_up_to_the_score_and_the_episode_ends_at_game_over(agent):
+    env = SpaceInvadersEnv(obs_type="state", repeat_action_probability=0.0)
+    env.action_space.seed(3)
+    pilot = Autopilot(4)
+    _, info = env.reset(seed=4)
+    total, lives, terminated, steps = 0.0, info["lives"], False, 0
+    while not terminated:
+        world = env.world
+        action = (env.action_space.sample() if agent == "random"
+                  else _autopilot_action(pilot.actions(world)))
+        score = world.score
+        _, reward, terminated, truncated, info = env.step(action)
+        assert reward == world.score - score and not truncated
+        assert info["lives"] <= lives and info["lives"] == max(world.ships, 0)
+        if reward:  # (a saucer's score comes after its explosion, a few frames on)
+            assert {"ALIEN_KILLED", "SAUCER_SCORED"} & set(info["events"])
+        if "ALIEN_KILLED" in info["events"]:
+            assert info["collisions"]["contacts"] >= 1
+        lives, total, steps = info["lives"], total + reward, steps + 1
+    assert env.world.phase is Phase.GAME_OVER and total == env.world.score > 0
+    assert info["episode_frame_number"] == env.world.tick and lives == 0
+
+
+def test_sticky_actions_repeat_the_last_frames_input_with_ales_probability(tmp_path):
+    """ALE v5's definition, frame by frame: with probability p the previous frame's input
+    is kept instead of the agent's. Replayed here from the env's own generator."""
+    env = SpaceInvadersEnv(obs_type="state", frameskip=3, record=tmp_path)
+    chosen = [i % 6 for i in range(120)]
+    _, _ = env.reset(seed=21)
+    for action in chosen:
+        if env.step(action)[2]:
+            break
+    env.close()
+    (path,) = tmp_path.glob("*.json")
+    played = list(load(path).actions())
+    rng, _ = seeding.np_random(21)
+    rng.integers(0, 2**31 - 1)  # the world's seed comes first
+    previous, expected = 0, []
+    for action in chosen:
+        for _ in range(3):
+            bits = previous if rng.random() < 0.25 else MINIMAL_ACTIONS[action]
+            previous = bits
+            expected.append(bits)
+    assert played == expected[:len(played)] and len(played) == 360
+    wanted = [MINIMAL_ACTIONS[a] for a in chosen for _ in range(3)]
+    overridden = sum(1 for w, p in zip(wanted, played, strict=True) if w != p)
+    assert 10 < overridden < 90  # sticky now and then: about a quarter of the changes
+
+
+def test_a_frameskip_range_takes_a_number_of_frames_from_it_each_step():
+    env = SpaceInvadersEnv(obs_type="state", frameskip=(2, 5))
+    env.reset(seed=1)
+    frames, seen = 0, set()
+    for _ in range(60):
+        info = env.step(0)[4]
+        seen.add(info["episode_frame_number"] - frames)
+        frames = info["episode_frame_number"]
+    assert seen == {2, 3, 4}
+
+
+def test_every_episode_is_a_replay_that_checks(tmp_path, capsys):
+    env = gymnasium.make(ENV_ID, obs_type="grayscale", record=str(tmp_path / "episodes"))
+    env.action_space.seed(0)
+    for seed in (1, 2):
+        env.reset(seed=seed)
+        for _ in range(150):
+            env.step(env.action_space.sample())
+    env.close()
+    files = sorted((tmp_path / "episodes").glob("*.json"))
+    assert [f.name for f in files] == [f"episode-0000{n}-seed-{load(f).seed}.json"
+                                       for n, f in zip((1, 2), files, strict=True)]
+    assert [load(f).ticks for f in files] == [600, 600]
+    assert main(["replay", *map(str, files)]) == 0
+    assert capsys.readouterr().out.count("ok ") == 2
+
+
+def test_bad_options_are_refused_in_one_line():
+    for options in ({"obs_type": "ram"}, {"frameskip": 0}, {"frameskip": (4, 2)},
+                    {"repeat_action_probability": 2.0}, {"render_mode": "window"}):
+        with pytest.raises(ValueError, match=next(iter(options))):
+            SpaceInvadersEnv(**options)
+
+
+def test_render_gives_the_rgb_picture_whatever_the_observation():
+    env = SpaceInvadersEnv(obs_type="state", render_mode="rgb_array")
+    _play(env, 6, 50)
+    assert np.array_equal(env.render(), _picture_in_the_window(env.world))
+
+
+def test_vector_environments_step_worlds_side_by_side():
+    envs = gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="sync", obs_type="state")
+    obs, _ = envs.reset(seed=[7, 8])
+    assert obs.shape == (2, 188) and np.array_equal(obs[0], obs[1])  # both at the start
+    for _ in range(60):  # (the cannons wait a moment at the start)
+        obs, rewards, _, _, infos = envs.step(np.array([3, 2]))  # left, right
+    assert obs[0][0] < obs[1][0]  # the cannons went their own ways
+    assert list(infos["lives"]) == list(obs[:, 186]) and rewards.shape == (2,)
+    envs.close()
