@@ -1,7 +1,8 @@
 """The environment against ALE's own Gymnasium environment, step for step: `invaders bench
 --ale` prints this table. Both with ALE v5's settings (frame skip 4, sticky actions 0.25),
 the same fixed cycle of actions, the observation types paired as a learner would pair them
-(our picture against ALE's, our state vector against ALE's 128 bytes of RAM). Each round
+(our picture against ALE's, our state vector against ALE's 128 bytes of RAM), both made by
+`gymnasium.make` (so each carries Gymnasium's default wrappers). Each round
 times every contender for about a quarter of a second, the order reversed from round to
 round; figures are medians over the rounds, ratios the median of the per-round ratios.
 """
@@ -15,10 +16,11 @@ from typing import Any
 
 import gymnasium
 
-from invaders.env.space_invaders import SpaceInvadersEnv
+import invaders.env  # noqa: F401  (registers the id)
 from invaders.lab.ale import available
 from invaders.lab.timing import no_gc
 
+ENV_ID = "invaders/SpaceInvaders-v0"  # through gymnasium.make on both sides, wrappers alike
 PAIRS = (("rgb", "rgb", 5.0), ("grayscale", "grayscale", 5.0), ("state", "ram", 8.0))
 CYCLE = (1, 2, 2, 2, 0, 1, 3, 3, 3, 0, 4, 5)  # ALE's minimal actions, both sides alike
 ROUND_SECONDS = 0.25
@@ -61,7 +63,7 @@ def env_table(rounds: int) -> int:
         print("   ALE skipped: install the compare extra (ale-py) to time it beside ours")
     missed = 0
     for ours_type, theirs_type, target in PAIRS:
-        runs = {"ours": _stepper(SpaceInvadersEnv(obs_type=ours_type))}
+        runs = {"ours": _stepper(gymnasium.make(ENV_ID, obs_type=ours_type))}
         if with_ale:
             runs["ALE"] = _stepper(ale_env(theirs_type))
         rates = _rates(runs, rounds)
