@@ -54,8 +54,14 @@ def tick_box(body: Body, tick: int, swept: bool = True) -> tuple[int, int, int, 
     arrays, and a test holds the two equal)."""
     x0, y0 = body.x, body.y
     x1, y1 = x0 + body.w, y0 + body.h
-    if swept and body.moved_tick == tick:
+    if swept and body.moved_tick == tick:  # (comparisons, not min and max: a hot path)
         px, py = body.px, body.py
-        x0, y0 = min(x0, px), min(y0, py)
-        x1, y1 = max(x1, px + body.w), max(y1, py + body.h)
+        if px < x0:
+            x0 = px
+        elif px > x0:
+            x1 = px + body.w
+        if py < y0:
+            y0 = py
+        elif py > y0:
+            y1 = py + body.h
     return x0, y0, x1, y1

@@ -146,9 +146,11 @@ class Detector:
         if (self._asked is plan.groups and not plan.zoned
                 and not self.broadphase.move_buffer):  # the plan's groups, nothing heard
             pairs, allowed = self._answer, plan.allowed
+            if not pairs and not observers:  # the usual tick at game scale
+                return [], plan.quiet
         else:
             pairs, allowed = self._candidates(store, plan)
-        if not pairs and allowed == plan.allowed:  # the usual tick at game scale
+        if not pairs and allowed == plan.allowed:  # nothing in a zone, no candidates
             contacts, stats = [], plan.quiet
         else:
             contacts, stats = self._tested(plan, pairs, allowed, store.tick)
@@ -276,14 +278,17 @@ class Detector:
                 continue
             # b's corner off a's goes from (ox, oy) to (ex, ey); where each started read in
             # place (as Body.start_of_tick says): the x axis first, most pairs part there.
+            # Each axis: the span b's corner covers, low end below a's far edge and high end
+            # plus b's size past a's near one.
             a_moved, b_moved = a.moved_tick == tick, b.moved_tick == tick
             ox = (b.px if b_moved else b.x) - (a.px if a_moved else a.x)
             ex = b.x - a.x
-            if (ox if ox < ex else ex) < a.w and (ex if ox < ex else ox) + b.w > 0:
-                oy = (b.py if b_moved else b.y) - (a.py if a_moved else a.y)
-                ey = b.y - a.y
-                if (oy if oy < ey else ey) < a.h and (ey if oy < ey else oy) + b.h > 0:
-                    hits.append(pair)
+            if not (ex < a.w and ox + b.w > 0 if ex < ox else ox < a.w and ex + b.w > 0):
+                continue
+            oy = (b.py if b_moved else b.y) - (a.py if a_moved else a.y)
+            ey = b.y - a.y
+            if ey < a.h and oy + b.h > 0 if ey < oy else oy < a.h and ey + b.h > 0:
+                hits.append(pair)
         return hits
 
     def _thorough_test(self, hits: list[Pair], tick: int
