@@ -206,3 +206,46 @@ def test_vector_environments_step_worlds_side_by_side():
     assert obs[0][0] < obs[1][0]  # the cannons went their own ways
     assert list(infos["lives"]) == list(obs[:, 186]) and rewards.shape == (2,)
     envs.close()
+
+
+EPISODE = """
+import hashlib, sys
+import gymnasium
+import invaders.env
+env = gymnasium.make("invaders/SpaceInvaders-v0", obs_type="grayscale")
+obs, _ = env.reset(seed=31)
+digest = hashlib.sha256(obs.tobytes())
+for i in range(300):
+    obs, reward, terminated, truncated, info = env.step(i % 6)
+    digest.update(obs.tobytes())
+print(env.unwrapped.world.state_hash(), digest.hexdigest())
+"""
+
+
+def test_an_episode_is_the_same_in_other_processes_whatever_the_hash_seed():
+    import os
+    import subprocess
+    import sys
+
+    outputs = set()
+    for hash_seed in ("0", "1", "12345"):
+        env = {**os.environ, "PYTHONHASHSEED": hash_seed, "SDL_VIDEODRIVER": "dummy"}
+        done = subprocess.run([sys.executable, "-c", EPISODE], env=env, capture_output=True,
+                              text=True, check=True)
+        outputs.add(done.stdout.strip())
+    assert len(outputs) == 1 and len(next(iter(outputs)).split()) == 2
+
+
+def test_async_vector_environments_and_gymnasiums_frame_stacking_work_on_it():
+    envs = gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="async", obs_type="state")
+    obs, _ = envs.reset(seed=[7, 7])
+    for _ in range(10):
+        obs, *_ = envs.step(np.array([1, 1]))
+    assert np.array_equal(obs[0], obs[1])  # the same seed and actions in two processes
+    envs.close()
+    stacked = gymnasium.wrappers.FrameStackObservation(
+        gymnasium.make(ENV_ID, obs_type="grayscale"), stack_size=4)
+    frames, _ = stacked.reset(seed=3)
+    frames, *_ = stacked.step(2)
+    assert frames.shape == (4, 256, 224) and np.array_equal(
+        frames[-1], stacked.unwrapped._pixels.out)

@@ -18,6 +18,7 @@ from invaders.game.entities import CannonState
 from invaders.game.world import World
 from invaders.lab.picture import Picture
 
+ACTIVE = CannonState.ACTIVE
 # ITU-R BT.601 luma, in integers: the grey a monochrome monitor would show for each colour.
 LUMA = (299, 587, 114)
 
@@ -64,22 +65,19 @@ STATE_SIZE = sum(count for _, count, _ in STATE_FIELDS)
 STATE_HIGH = 1e6  # no field is negative; the score is the largest (the counter shows 9999)
 
 
+NONE3 = (0.0, 0.0, 0.0)
+
+
 def observe_state(world: World, out: np.ndarray) -> np.ndarray:
     """The game's objects as numbers, written into `out` (float32, STATE_SIZE)."""
-    values: list[float] = []
-    cannon = world.cannon
-    values += (cannon.x, 1.0 if cannon.state is CannonState.ACTIVE else 0.0)
-    shot = world.shot
-    values += (1.0, shot.x, shot.y) if shot is not None else (0.0, 0.0, 0.0)
-    for slot in world.slots:
-        bomb = slot.bomb
-        values += (1.0, bomb.x, bomb.y) if bomb is not None else (0.0, 0.0, 0.0)
-    for alien in world.rack.aliens:
-        values += ((1.0, alien.x, alien.top) if alien is not None and alien.alive
-                   else (0.0, 0.0, 0.0))
-    flying = world.saucer.saucer
-    values += (1.0, flying.x) if flying is not None else (0.0, 0.0)
-    values += (bunker.mask.count() for bunker in world.bunkers)
-    values += (world.score, max(world.ships, 0), world.wave)
-    out[:] = values
+    cannon, shot, flying = world.cannon, world.shot, world.saucer.saucer
+    bombs = [(1.0, s.bomb.x, s.bomb.y) if s.bomb is not None else NONE3 for s in world.slots]
+    aliens = [(1.0, a.x, a.top) if a is not None and a.alive else NONE3
+              for a in world.rack.aliens]
+    out[:] = (cannon.x, 1.0 if cannon.state is ACTIVE else 0.0,
+              *((1.0, shot.x, shot.y) if shot is not None else NONE3),
+              *(v for bomb in bombs for v in bomb), *(v for alien in aliens for v in alien),
+              *((1.0, flying.x) if flying is not None else (0.0, 0.0)),
+              *(bunker.mask.count() for bunker in world.bunkers),
+              world.score, max(world.ships, 0), world.wave)
     return out

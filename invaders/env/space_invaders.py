@@ -23,7 +23,9 @@ from invaders.env.observations import STATE_HIGH, STATE_SIZE, PixelObserver, obs
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG, SCREEN_H, SCREEN_W
 from invaders.game.replay import CHECKPOINT_EVERY, Checkpoint, Replay
-from invaders.game.world import Phase, World
+from invaders.game.world import Phase, TickReport, World
+
+GAME_OVER = Phase.GAME_OVER
 
 NOOP, FIRE = 0, int(Action.FIRE)
 LEFT, RIGHT = int(Action.LEFT), int(Action.RIGHT)
@@ -97,37 +99,38 @@ class SpaceInvadersEnv(gym.Env):
             self._replay.checkpoints.append(Checkpoint.of(self.world))
         if self.render_mode == "human":
             self.render()
-        return self._observe(), self._info((), [0] * len(CollisionStats._fields))
+        return self._observe(), self._info([])
 
     def step(self, action: int) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         if self.world is None:
             raise RuntimeError("call reset() before step()")
-        if not self.action_space.contains(action):
+        if not (isinstance(action, (int, np.integer)) and 0 <= action < len(self._actions)):
             raise ValueError(f"action {action!r} is not in {self.action_space}")
-        world, wanted = self.world, self._actions[int(action)]
+        world, wanted = self.world, self._actions[action]
         score = world.score
-        events: list[str] = []
-        counters = [0] * len(CollisionStats._fields)
-        for _ in range(self._skip()):
-            sticks = self.np_random.random() < self.repeat_action_probability
-            bits = self._previous if sticks else wanted  # sticky: the last frame's input again
+        frames = self._skip()
+        # Sticky actions, frame by frame: each frame keeps the previous frame's input with
+        # the given probability (the draws taken in one call, the same numbers in order).
+        sticky = (self.np_random.random(frames) < self.repeat_action_probability).tolist()
+        reports = []
+        for sticks in sticky:
+            bits = self._previous if sticks else wanted
             self._previous = bits
-            report = world.step(bits)
-            self._note(bits)
-            events += (event.name for event in report.events)
-            counters = [a + b for a, b in zip(counters, report.stats, strict=True)]
-            self._episode_frames += 1
-            self.frame_number += 1
-            if world.phase is Phase.GAME_OVER:
+            reports.append(world.step(bits))
+            if self._replay is not None:
+                self._note(bits)
+            if world.phase is GAME_OVER:
                 break
-        terminated = world.phase is Phase.GAME_OVER
+        self._episode_frames += len(reports)
+        self.frame_number += len(reports)
+        terminated = world.phase is GAME_OVER
         truncated = not terminated and self._episode_frames >= self.max_num_frames_per_episode
         if terminated or truncated:
             self._save_episode()
         if self.render_mode == "human":
             self.render()
         return (self._observe(), float(world.score - score), terminated, truncated,
-                self._info(events, counters))
+                self._info(reports))
 
     def render(self) -> np.ndarray | None:
         """The RGB picture (rgb_array), or the picture shown in a window (human)."""
@@ -163,11 +166,15 @@ class SpaceInvadersEnv(gym.Env):
             return observe_state(self.world, self._state).copy()
         return self._pixels.observe(self.world).copy()
 
-    def _info(self, events: list[str] | tuple[()], counters: list[int]) -> dict[str, Any]:
+    def _info(self, reports: list[TickReport]) -> dict[str, Any]:
+        """ALE's fields, the step's events by name and its collision counters summed."""
         assert self.world is not None
+        events = tuple(event.name for report in reports for event in report.events)
+        counters = map(sum, zip(*(report.stats for report in reports), strict=True))
         return {"lives": max(self.world.ships, 0), "episode_frame_number": self._episode_frames,
-                "frame_number": self.frame_number, "events": tuple(events),
-                "collisions": dict(zip(CollisionStats._fields, counters, strict=True)),
+                "frame_number": self.frame_number, "events": events,
+                "collisions": dict(zip(CollisionStats._fields, counters, strict=True))
+                if reports else dict.fromkeys(CollisionStats._fields, 0),
                 "seed": self.world.seed}
 
     def _note(self, bits: int) -> None:

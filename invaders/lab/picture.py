@@ -107,9 +107,9 @@ class Picture:
         for bunker in world.bunkers:
             bunker.mask.to_surface(self.screen, setcolor=WHITE, unsetcolor=None,
                                    dest=(bunker.x, bunker.y))
-        for alien in world.rack.live_aliens():
-            pictures = art.ALIEN_BY_ROW[alien.row]
-            blit(self.sprite(pictures[alien.frame]), (alien.x, alien.top))
+        sprite, by_row = self.sprite, art.ALIEN_BY_ROW  # the rack in one call: 55 blits
+        self.screen.blits([(sprite(by_row[alien.row][alien.frame]), (alien.x, alien.top))
+                           for alien in world.rack.live_aliens()], doreturn=False)
         for explosion in world.explosions:
             picture = art.ALIEN_EXPLOSION if explosion.blast.value == "alien" else art.SHOT_BURST
             blit(self.sprite(picture), (explosion.x, explosion.y))
