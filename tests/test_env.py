@@ -24,9 +24,12 @@ from invaders.lab.autopilot import Autopilot
 ENV_ID = "invaders/SpaceInvaders-v0"
 
 
-@pytest.mark.parametrize("obs_type", ["rgb", "grayscale", "state"])
-def test_gymnasiums_own_checker_passes(obs_type):
-    env = gymnasium.make(ENV_ID, obs_type=obs_type)
+@pytest.mark.parametrize("options", [{"obs_type": "rgb"}, {"obs_type": "grayscale"},
+                                     {"obs_type": "state"},
+                                     {"obs_type": "grayscale", "resize": (84, 84), "stack": 4}],
+                         ids=["rgb", "grayscale", "state", "grayscale-84x84x4"])
+def test_gymnasiums_own_checker_passes(options):
+    env = gymnasium.make(ENV_ID, **options)
     check_env(env.unwrapped, skip_render_check=True)
     env.close()
 
@@ -186,7 +189,8 @@ def test_every_episode_is_a_replay_that_checks(tmp_path, capsys):
 
 def test_bad_options_are_refused_in_one_line():
     for options in ({"obs_type": "ram"}, {"frameskip": 0}, {"frameskip": (4, 2)},
-                    {"repeat_action_probability": 2.0}, {"render_mode": "window"}):
+                    {"repeat_action_probability": 2.0}, {"render_mode": "window"},
+                    {"resize": (84, 84, 3)}, {"stack": 0}, {"stack": 4, "obs_type": "state"}):
         with pytest.raises(ValueError, match=next(iter(options))):
             SpaceInvadersEnv(**options)
 
@@ -249,3 +253,40 @@ def test_async_vector_environments_and_gymnasiums_frame_stacking_work_on_it():
     frames, *_ = stacked.step(2)
     assert frames.shape == (4, 256, 224) and np.array_equal(
         frames[-1], stacked.unwrapped._pixels.out)
+
+
+def _area_average(picture: np.ndarray, height: int, width: int) -> np.ndarray:
+    """The definition, pixel by pixel: each output pixel the mean of the input area it
+    covers, pixels cut by its edges weighted by the part inside."""
+    h, w = picture.shape
+    out = np.zeros((height, width))
+    for i in range(height):
+        for j in range(width):
+            y0, y1 = i * h / height, (i + 1) * h / height
+            x0, x1 = j * w / width, (j + 1) * w / width
+            total = 0.0
+            for y in range(int(y0), min(h, int(np.ceil(y1)))):
+                for x in range(int(x0), min(w, int(np.ceil(x1)))):
+                    part = (min(y1, y + 1) - max(y0, y)) * (min(x1, x + 1) - max(x0, x))
+                    total += part * picture[y, x]
+            out[i, j] = total / ((y1 - y0) * (x1 - x0))
+    return np.floor(out + 0.5).astype(np.uint8)
+
+
+def test_grey_pictures_shrink_by_area_and_stack_in_order():
+    env = SpaceInvadersEnv(obs_type="grayscale", resize=(84, 84), stack=4)
+    full = SpaceInvadersEnv(obs_type="grayscale")
+    assert env.observation_space.shape == (4, 84, 84)
+    first, _ = env.reset(seed=9)
+    full.reset(seed=9)
+    assert all(np.array_equal(frame, first[0]) for frame in first)  # a reset fills it
+    seen = [first[-1]]
+    for action in (1, 2, 2, 3):
+        stacked = env.step(action)[0]
+        picture = full.step(action)[0]
+        small = _area_average(picture, 84, 84)
+        assert np.abs(stacked[-1].astype(int) - small).max() <= 1  # float32 sums
+        assert (stacked[-1] != small).mean() < 0.01
+        seen.append(stacked[-1])
+    assert all(np.array_equal(a, b) for a, b in zip(stacked, seen[-4:], strict=True))
+    assert stacked[-1].max() > 0 and not np.array_equal(stacked[-1], stacked[0])

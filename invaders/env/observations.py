@@ -81,3 +81,54 @@ def observe_state(world: World, out: np.ndarray) -> np.ndarray:
               *(bunker.mask.count() for bunker in world.bunkers),
               world.score, max(world.ships, 0), world.wave)
     return out
+
+
+def area_weights(size_in: int, size_out: int) -> np.ndarray:
+    """(size_out, size_in): each output pixel the average of the input it covers, pixels cut
+    by its edges counted by the part inside (the area interpolation Atari agents use)."""
+    scale = size_in / size_out
+    weights = np.zeros((size_out, size_in), np.float32)
+    for i in range(size_out):
+        low, high = i * scale, (i + 1) * scale
+        for j in range(int(low), min(size_in, int(np.ceil(high)))):
+            weights[i, j] = (min(high, j + 1) - max(low, j)) / scale
+    return weights
+
+
+class Shrink:
+    """A grey picture made smaller by area averaging, in arrays kept between steps: two
+    matrix products and a rounding, nothing allocated."""
+
+    def __init__(self, size: tuple[int, int]) -> None:
+        height, width = size
+        self.rows = area_weights(SCREEN_H, height)
+        self.cols = area_weights(SCREEN_W, width).T.copy()
+        self._grey = np.zeros((SCREEN_H, SCREEN_W), np.float32)
+        self._half = np.zeros((height, SCREEN_W), np.float32)
+        self._small = np.zeros((height, width), np.float32)
+        self.out = np.zeros((height, width), np.uint8)
+
+    def __call__(self, grey: np.ndarray) -> np.ndarray:
+        np.copyto(self._grey, grey)
+        np.matmul(self.rows, self._grey, out=self._half)
+        np.matmul(self._half, self.cols, out=self._small)
+        np.add(self._small, 0.5, out=self._small)  # rounded to nearest, not down
+        np.copyto(self.out, self._small, casting="unsafe")
+        return self.out
+
+
+class Stack:
+    """The last n frames, oldest first, in one array kept between steps (a reset fills it
+    with the first frame, as Gymnasium's FrameStackObservation does)."""
+
+    def __init__(self, n: int, shape: tuple[int, ...]) -> None:
+        self.frames = np.zeros((n, *shape), np.uint8)
+
+    def reset(self, frame: np.ndarray) -> np.ndarray:
+        self.frames[:] = frame
+        return self.frames
+
+    def push(self, frame: np.ndarray) -> np.ndarray:
+        self.frames[:-1] = self.frames[1:]
+        self.frames[-1] = frame
+        return self.frames

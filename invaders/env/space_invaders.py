@@ -19,7 +19,14 @@ from gymnasium import spaces
 
 from invaders.atomic import write_atomic
 from invaders.engine.stats import CollisionStats
-from invaders.env.observations import STATE_HIGH, STATE_SIZE, PixelObserver, observe_state
+from invaders.env.observations import (
+    STATE_HIGH,
+    STATE_SIZE,
+    PixelObserver,
+    Shrink,
+    Stack,
+    observe_state,
+)
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG, SCREEN_H, SCREEN_W
 from invaders.game.replay import CHECKPOINT_EVERY, Checkpoint, Replay
@@ -53,15 +60,10 @@ class SpaceInvadersEnv(gym.Env):
     def __init__(self, obs_type: str = "rgb", frameskip: int | tuple[int, int] = 4,
                  repeat_action_probability: float = 0.25, full_action_space: bool = False,
                  max_num_frames_per_episode: int = MAX_FRAMES, render_mode: str | None = None,
-                 record: str | Path | None = None) -> None:
-        if obs_type not in OBS_TYPES:
-            raise ValueError(f"obs_type {obs_type!r}: choose from {', '.join(OBS_TYPES)}")
-        if not _valid_skip(frameskip):
-            raise ValueError(f"frameskip {frameskip!r}: a whole number >= 1 or (low, high)")
-        if not 0.0 <= repeat_action_probability <= 1.0:
-            raise ValueError(f"repeat_action_probability {repeat_action_probability}: 0 to 1")
-        if render_mode not in (None, *self.metadata["render_modes"]):
-            raise ValueError(f"render_mode {render_mode!r}: None, 'human' or 'rgb_array'")
+                 record: str | Path | None = None, resize: tuple[int, int] | None = None,
+                 stack: int = 1) -> None:
+        _check_options(obs_type, frameskip, repeat_action_probability, render_mode, resize,
+                       stack)
         self.obs_type, self.frameskip = obs_type, frameskip
         self.repeat_action_probability = repeat_action_probability
         self.max_num_frames_per_episode = max_num_frames_per_episode
@@ -70,8 +72,12 @@ class SpaceInvadersEnv(gym.Env):
         self._meanings = meanings
         self._actions = tuple(_bits(m) for m in meanings)
         self.action_space = spaces.Discrete(len(meanings))
-        self.observation_space = _space(obs_type)
         self._pixels = PixelObserver(obs_type == "grayscale") if obs_type != "state" else None
+        self._shrink = Shrink(resize) if resize is not None else None
+        shape = resize or (SCREEN_H, SCREEN_W)
+        self._stack = Stack(stack, (*shape, 3) if obs_type == "rgb" else shape) if (
+            stack > 1) else None
+        self.observation_space = _space(obs_type, shape, stack)
         self._state = np.zeros(STATE_SIZE, np.float32)
         self._shown: PixelObserver | None = None  # for render(), when observations are not RGB
         self._window = None
@@ -99,7 +105,7 @@ class SpaceInvadersEnv(gym.Env):
             self._replay.checkpoints.append(Checkpoint.of(self.world))
         if self.render_mode == "human":
             self.render()
-        return self._observe(), self._info([])
+        return self._observe(first=True), self._info([])
 
     def step(self, action: int) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         if self.world is None:
@@ -160,11 +166,17 @@ class SpaceInvadersEnv(gym.Env):
             return self.frameskip
         return int(self.np_random.integers(self.frameskip[0], self.frameskip[1]))
 
-    def _observe(self) -> np.ndarray:
+    def _observe(self, first: bool = False) -> np.ndarray:
+        """This step's observation, a copy (the arrays behind it are kept and rewritten)."""
         assert self.world is not None
         if self._pixels is None:
             return observe_state(self.world, self._state).copy()
-        return self._pixels.observe(self.world).copy()
+        frame = self._pixels.observe(self.world)
+        if self._shrink is not None:
+            frame = self._shrink(frame)
+        if self._stack is not None:
+            frame = self._stack.reset(frame) if first else self._stack.push(frame)
+        return frame.copy()
 
     def _info(self, reports: list[TickReport]) -> dict[str, Any]:
         """ALE's fields, the step's events by name and its collision counters summed."""
@@ -211,6 +223,24 @@ class SpaceInvadersEnv(gym.Env):
         pygame.display.flip()
 
 
+def _check_options(obs_type: str, frameskip: Any, repeat_action_probability: float,
+                   render_mode: str | None, resize: Any, stack: Any) -> None:
+    """One ValueError naming the option, for a value the environment cannot take."""
+    if obs_type not in OBS_TYPES:
+        raise ValueError(f"obs_type {obs_type!r}: choose from {', '.join(OBS_TYPES)}")
+    if not _valid_skip(frameskip):
+        raise ValueError(f"frameskip {frameskip!r}: a whole number >= 1 or (low, high)")
+    if not 0.0 <= repeat_action_probability <= 1.0:
+        raise ValueError(f"repeat_action_probability {repeat_action_probability}: 0 to 1")
+    if resize is not None and (obs_type != "grayscale" or len(resize) != 2
+                               or not all(1 <= n <= 224 for n in resize)):
+        raise ValueError(f"resize {resize!r}: (height, width) up to 224, for grayscale")
+    if not (isinstance(stack, int) and 1 <= stack <= 64) or (stack > 1 and obs_type == "state"):
+        raise ValueError(f"stack {stack!r}: 1 to 64 pictures (not with the state)")
+    if render_mode not in (None, *SpaceInvadersEnv.metadata["render_modes"]):
+        raise ValueError(f"render_mode {render_mode!r}: None, 'human' or 'rgb_array'")
+
+
 def _valid_skip(frameskip: Any) -> bool:
     """A whole number from 1, or ALE's (low, high) range, drawn from per step."""
     if isinstance(frameskip, tuple):
@@ -219,9 +249,8 @@ def _valid_skip(frameskip: Any) -> bool:
     return isinstance(frameskip, int) and frameskip >= 1
 
 
-def _space(obs_type: str) -> spaces.Box:
-    if obs_type == "rgb":
-        return spaces.Box(0, 255, (SCREEN_H, SCREEN_W, 3), np.uint8)
-    if obs_type == "grayscale":
-        return spaces.Box(0, 255, (SCREEN_H, SCREEN_W), np.uint8)
-    return spaces.Box(0.0, STATE_HIGH, (STATE_SIZE,), np.float32)
+def _space(obs_type: str, shape: tuple[int, int], stack: int) -> spaces.Box:
+    if obs_type == "state":
+        return spaces.Box(0.0, STATE_HIGH, (STATE_SIZE,), np.float32)
+    frame = (*shape, 3) if obs_type == "rgb" else shape
+    return spaces.Box(0, 255, (stack, *frame) if stack > 1 else frame, np.uint8)
