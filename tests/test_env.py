@@ -290,3 +290,31 @@ def test_grey_pictures_shrink_by_area_and_stack_in_order():
         seen.append(stacked[-1])
     assert all(np.array_equal(a, b) for a, b in zip(stacked, seen[-4:], strict=True))
     assert stacked[-1].max() > 0 and not np.array_equal(stacked[-1], stacked[0])
+
+
+@pytest.mark.parametrize("obs_type", ["state", "grayscale"])
+def test_the_native_vector_environment_steps_as_gymnasiums_sync_one(obs_type):
+    """The same games step for step, across episode ends (NEXT_STEP autoreset: the step
+    after an end resets that game)."""
+    options = {"obs_type": obs_type, "max_num_frames_per_episode": 40}
+    native = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
+                                **options)
+    sync = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="sync", **options)
+    assert type(native).__name__ == "SpaceInvadersVectorEnv"
+    assert native.observation_space == sync.observation_space
+    first = [venv.reset(seed=5) for venv in (native, sync)]
+    assert np.array_equal(first[0][0], first[1][0])
+    rng = np.random.default_rng(0)
+    ends = 0
+    for _ in range(25):
+        actions = rng.integers(0, 6, 3)
+        (o1, r1, t1, u1, i1), (o2, r2, t2, u2, i2) = (venv.step(actions)
+                                                      for venv in (native, sync))
+        assert np.array_equal(o1, o2) and np.array_equal(r1, r2)
+        assert np.array_equal(t1, t2) and np.array_equal(u1, u2)
+        assert np.array_equal(i1["lives"], i2["lives"])
+        assert np.array_equal(i1["episode_frame_number"], i2["episode_frame_number"])
+        ends += int(u1.sum())
+    assert ends == 6  # each game cut at 40 frames, twice in 25 steps
+    native.close()
+    sync.close()

@@ -10,6 +10,7 @@ from invaders.env.space_invaders import SpaceInvadersEnv
 ENV_ID = "invaders/SpaceInvaders-v0"
 
 if ENV_ID not in gymnasium.registry:
-    gymnasium.register(ENV_ID, entry_point="invaders.env.space_invaders:SpaceInvadersEnv")
+    gymnasium.register(ENV_ID, entry_point="invaders.env.space_invaders:SpaceInvadersEnv",
+                       vector_entry_point="invaders.env.vector:SpaceInvadersVectorEnv")
 
 __all__ = ["ENV_ID", "SpaceInvadersEnv"]

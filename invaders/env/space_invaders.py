@@ -87,12 +87,34 @@ class SpaceInvadersEnv(gym.Env):
         self.frame_number = 0
         self.world: World | None = None
 
+    @property
+    def episode_frame_number(self) -> int:
+        return self._episode_frames
+
     def get_action_meanings(self) -> list[str]:
         return list(self._meanings)
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None
               ) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
+        self.begin(seed)
+        if self.render_mode == "human":
+            self.render()
+        return self._observe(first=True), self._info([])
+
+    def step(self, action: int) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        if self.world is None:
+            raise RuntimeError("call reset() before step()")
+        if not (isinstance(action, (int, np.integer)) and 0 <= action < len(self._actions)):
+            raise ValueError(f"action {action!r} is not in {self.action_space}")
+        reward, terminated, truncated, reports = self.advance(action)
+        if self.render_mode == "human":
+            self.render()
+        return self._observe(), reward, terminated, truncated, self._info(reports)
+
+    def begin(self, seed: int | None) -> None:
+        """A new episode, its world seeded from the environment's generator (seeded first
+        by `reset`): what reset does besides the observation and info."""
         self._save_episode()
         if seed is not None:  # as ALE, which loads its cartridge again when seeded
             self.frame_number = 0
@@ -103,23 +125,18 @@ class SpaceInvadersEnv(gym.Env):
         if self._record is not None:
             self._replay = Replay(world_seed, DEFAULT_CONFIG)
             self._replay.checkpoints.append(Checkpoint.of(self.world))
-        if self.render_mode == "human":
-            self.render()
-        return self._observe(first=True), self._info([])
 
-    def step(self, action: int) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
-        if self.world is None:
-            raise RuntimeError("call reset() before step()")
-        if not (isinstance(action, (int, np.integer)) and 0 <= action < len(self._actions)):
-            raise ValueError(f"action {action!r} is not in {self.action_space}")
+    def advance(self, action: int) -> tuple[float, bool, bool, list[TickReport]]:
+        """The step's frames (an action already checked): the reward, whether the game is
+        over or the episode cut short, and each frame's report."""
         world, wanted = self.world, self._actions[action]
+        assert world is not None
         score = world.score
-        frames = self._skip()
         # Sticky actions, frame by frame: each frame keeps the previous frame's input with
         # the given probability (the draws taken in one call, the same numbers in order).
-        sticky = (self.np_random.random(frames) < self.repeat_action_probability).tolist()
+        sticky = (self.np_random.random(self._skip()) < self.repeat_action_probability)
         reports = []
-        for sticks in sticky:
+        for sticks in sticky.tolist():
             bits = self._previous if sticks else wanted
             self._previous = bits
             reports.append(world.step(bits))
@@ -133,10 +150,7 @@ class SpaceInvadersEnv(gym.Env):
         truncated = not terminated and self._episode_frames >= self.max_num_frames_per_episode
         if terminated or truncated:
             self._save_episode()
-        if self.render_mode == "human":
-            self.render()
-        return (self._observe(), float(world.score - score), terminated, truncated,
-                self._info(reports))
+        return float(world.score - score), terminated, truncated, reports
 
     def render(self) -> np.ndarray | None:
         """The RGB picture (rgb_array), or the picture shown in a window (human)."""
@@ -168,15 +182,20 @@ class SpaceInvadersEnv(gym.Env):
 
     def _observe(self, first: bool = False) -> np.ndarray:
         """This step's observation, a copy (the arrays behind it are kept and rewritten)."""
+        return self.frame(first).copy()
+
+    def frame(self, first: bool = False) -> np.ndarray:
+        """The observation in the array kept for it (rewritten next step): what a batch
+        copies into its own array. `first`: the episode's first (a stack starts from it)."""
         assert self.world is not None
         if self._pixels is None:
-            return observe_state(self.world, self._state).copy()
+            return observe_state(self.world, self._state)
         frame = self._pixels.observe(self.world)
         if self._shrink is not None:
             frame = self._shrink(frame)
         if self._stack is not None:
             frame = self._stack.reset(frame) if first else self._stack.push(frame)
-        return frame.copy()
+        return frame
 
     def _info(self, reports: list[TickReport]) -> dict[str, Any]:
         """ALE's fields, the step's events by name and its collision counters summed."""
