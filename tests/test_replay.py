@@ -354,3 +354,24 @@ def test_a_file_from_before_the_saucer_fields_loads_with_the_values_once_hard_co
     path.write_text(json.dumps(data))
     with pytest.raises(ReplayError, match="lacks field 'saucer_top'"):
         load(path)
+
+
+@pytest.mark.parametrize("command", ["replay", "play"])
+def test_a_lab_speed_the_config_cannot_take_is_refused_before_any_tick(replay_file, tmp_path,
+                                                                       capsys, command):
+    """A valid header speed times a lab switch's multiplier past the config's range: one
+    line naming the file and the switch, exit 2, nothing run (it once ran, then exit 3)."""
+    lines = Path(replay_file).read_text().splitlines()
+    header = json.loads(lines[0])
+    header["config"]["speeds"]["shot"] = 33
+    second = json.loads(lines[2])
+    first_tick = json.loads(lines[1])["checkpoint"]["tick"]
+    second["lab"] = [[first_tick, {"speed": 4}]]
+    path = tmp_path / "fast.json"
+    path.write_text("\n".join([json.dumps(header), lines[1], json.dumps(second), *lines[3:]])
+                    + "\n")
+    args = ["replay", str(path)] if command == "replay" else ["play", "--replay", str(path)]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and str(path) in err[0] and f"lab switch at tick {first_tick}" in err[0]
+    assert "speeds.shot" in err[0]

@@ -11,7 +11,7 @@ from invaders.app.processing import working_on
 from invaders.app.recording import save_replay
 from invaders.engine.adaptive import DEFAULT_BROADPHASE
 from invaders.game.replay import Replay, ReplayError, load, replay_paths, run
-from invaders.lab.live import Choice, replay_switch
+from invaders.lab.live import Choice, at_speed, replay_switch
 
 UPDATED = -1
 
@@ -47,10 +47,11 @@ def check_all(args: list[str], update: bool = False, broadphase: str = DEFAULT_B
 
 
 def check_switches(replay: Replay) -> None:
-    """ReplayError naming the first lab switch the lab cannot put into a game."""
+    """ReplayError naming the first lab switch the lab cannot put into a game: a choice it
+    does not know, or a speed the config cannot take (checked before any tick runs)."""
     for tick, data in replay.switches:
         try:
-            Choice.from_dict(data)
+            at_speed(replay.config, Choice.from_dict(data).speed)
         except ValueError as err:
             raise ReplayError(f"lab switch at tick {tick}: {err}") from None
 
