@@ -375,3 +375,31 @@ def test_a_lab_speed_the_config_cannot_take_is_refused_before_any_tick(replay_fi
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and str(path) in err[0] and f"lab switch at tick {first_tick}" in err[0]
     assert "speeds.shot" in err[0]
+
+
+def test_errors_name_the_line_as_the_file_counts_it_blank_lines_included(replay_file,
+                                                                         tmp_path, capsys):
+    lines = Path(replay_file).read_text().splitlines()
+    broken = json.loads(lines[3])
+    broken["checkpoint"]["tick"] += 1
+    path = tmp_path / "gaps.json"
+    path.write_text("\n".join([lines[0], "", lines[1], "   ", "", lines[2], json.dumps(broken),
+                               *lines[4:]]) + "\n")
+    assert main(["replay", str(path)]) == 2
+    assert "line 7" in capsys.readouterr().err  # the fourth line of JSON, seventh of the file
+
+
+def test_a_version_1_file_may_spread_its_one_object_over_lines(tmp_path):
+    replay = record_headless(World(seed=2), Autopilot(2), 240)
+    data = {"format": "invaders-replay", "version": 1, "program": "invaders test",
+            "seed": replay.seed, "config": dataclasses.asdict(replay.config),
+            "ticks": replay.ticks, "inputs": replay.inputs,
+            "checkpoints": [dataclasses.asdict(c) for c in replay.checkpoints]}
+    one_line, pretty = tmp_path / "one.json", tmp_path / "pretty.json"
+    one_line.write_text(json.dumps(data) + "\n")
+    pretty.write_text(json.dumps(data, indent=2) + "\n")
+    assert load(pretty) == load(one_line)
+    assert main(["replay", str(pretty)]) == 0
+    pretty.write_text(json.dumps(data, indent=2)[:-40] + "\n")  # cut: still refused
+    with pytest.raises(ReplayError, match="line 1: invalid JSON"):
+        load(pretty)

@@ -316,14 +316,16 @@ def parse(data: Any) -> Replay:
     return _finish(seed, config, runs, checkpoints, program, ticks)
 
 
-def parse_lines(lines: list[str]) -> Replay:
-    """A version-2 Replay from its lines (the header first), or ReplayError."""
+def parse_lines(lines: list[str], numbers: list[int] | None = None) -> Replay:
+    """A version-2 Replay from its lines (the header first), or ReplayError; `numbers`: each
+    line's number in its file (blank lines left out between them), 1, 2, 3... by default."""
     _, seed, config, program = _header(_decode(lines[0], "the header line"))
     runs: list[list[int]] = []
     checkpoints: list[Checkpoint] = []
     switches: list[Switch] = []
     total = 0
-    for number, line in enumerate(lines[1:], 2):
+    numbered = zip(numbers[1:] if numbers else range(2, len(lines) + 1), lines[1:], strict=True)
+    for number, line in numbered:
         where = f"line {number}"
         data = _decode(line, where)
         _need(isinstance(data, dict) and set(data) - {"lab"} == {"inputs", "checkpoint"},
@@ -388,13 +390,35 @@ def load(path: str | Path) -> Replay:
     lines = text.split("\n")
     if not text.endswith("\n") and len(lines) > 1:
         lines.pop()  # a last line cut short by an interrupted write: not part of the replay
-    lines = [line for line in lines if line.strip()]
+    numbers = [n for n, line in enumerate(lines, 1) if line.strip()]  # as the file counts
+    lines = [lines[n - 1] for n in numbers]
     _need(bool(lines), "the file holds no complete line")
-    first = _decode(lines[0], "line 1")
-    if isinstance(first, dict) and first.get("version") == 1 and type(first["version"]) is int:
+    try:
+        first = _decode(lines[0], f"line {numbers[0]}")
+    except ReplayError:
+        whole = _one_object(text)  # a version-1 file spread over lines, as JSON allows
+        if whole is None:
+            raise
+        return parse(whole)
+    if _is_version_1(first):
         _need(len(lines) == 1, "a version-1 replay is one JSON object")
         return parse(first)
-    return parse_lines(lines)
+    return parse_lines(lines, numbers)
+
+
+def _is_version_1(data: Any) -> bool:
+    return isinstance(data, dict) and data.get("version") == 1 and type(data["version"]) is int
+
+
+def _one_object(text: str) -> dict | None:
+    """The file as one version-1 object over several lines, or None if it is not one."""
+    if not text.lstrip().startswith("{"):
+        return None
+    try:
+        whole = _decode(text, "the file")
+    except ReplayError:
+        return None
+    return whole if _is_version_1(whole) else None
 
 
 def replay_paths(args: list[str]) -> list[Path]:
