@@ -167,3 +167,35 @@ def test_the_bare_step_loop_and_ale_share_one_input_cycle_that_plays_the_game():
         places.add(world.cannon.x)
     # it moves both ways across the field and fires: it plays, not idles
     assert max(places) - min(places) >= 15 and fired > 20 and world.aliens_killed > 10
+
+
+@pytest.mark.parametrize("words, problem", [
+    (["play", "--record", ""], "--record needs a name"),
+    (["play", "--replay", " "], "--replay needs a name"),
+    (["play", "--screenshot", ""], "--screenshot needs a name"),
+    (["run", "--record", ""], "--record needs a name"),
+    (["replay", ""], "PATH needs a name"),
+    (["study", "--out", ""], "--out needs a name"),
+    (["run", "--ticks", "9" * 5000], "--ticks must be between 1 and"),
+    (["run", "--seed", "x" * 300], "--seed must be a whole number, not 'xxxxxxxx"),
+])
+def test_empty_names_and_huge_values_are_refused_in_one_short_line(words, problem, capsys):
+    assert main(words) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and problem in err and len(err) < 200
+
+
+def test_a_seed_with_a_leading_zero_is_the_decimal_number(capsys):
+    assert main(["run", "--seed", "010", "--ticks", "2"]) == 0
+    assert "seed 10," in capsys.readouterr().out
+
+
+def test_watching_a_replay_while_recording_over_it_is_refused(tmp_path, capsys):
+    source = Path(__file__).resolve().parents[1] / "replays" / "invasion.json"
+    watched = tmp_path / "game.json"
+    watched.write_bytes(source.read_bytes())
+    before = watched.read_bytes()
+    assert main(["play", "--replay", str(watched), "--record",
+                 str(tmp_path / "." / "game.json")]) == 2
+    assert "would overwrite it" in capsys.readouterr().err
+    assert watched.read_bytes() == before

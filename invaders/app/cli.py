@@ -4,6 +4,7 @@ usage, 3 an internal error; 128 + N when signal N stopped a run or a game."""
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Callable, Sequence
 from typing import NamedTuple, NoReturn
@@ -30,17 +31,43 @@ class Parser(argparse.ArgumentParser):
 
 def _int_in(name: str, low: int, high: int):
     def parse(text: str) -> int:
-        try:
-            value = int(text, 0)
+        digits = text.strip().lstrip("+-")
+        if digits.isdigit() and len(digits) > 40:  # (no range here is that long)
+            raise argparse.ArgumentTypeError(
+                f"{name} must be between {low} and {high}, not {_quoted(text)}")
+        try:  # decimal first (010 is ten), then 0x.. and 0b.. forms
+            value = int(text, 10) if digits.isdigit() else int(text, 0)
         except ValueError:
             raise argparse.ArgumentTypeError(
-                f"{name} must be a whole number, not {text!r}") from None
+                f"{name} must be a whole number, not {_quoted(text)}") from None
         if not low <= value <= high:
             raise argparse.ArgumentTypeError(
-                f"{name} must be between {low} and {high}, not {value}")
+                f"{name} must be between {low} and {high}, not {_quoted(text)}")
         return value
 
     return parse
+
+
+def _quoted(text: str, most: int = 24) -> str:
+    """A value as given, cut to its first characters: a bad value is named, not echoed."""
+    return repr(text) if len(text) <= most else f"{text[:most]!r}... ({len(text):,} characters)"
+
+
+def _named(name: str):
+    """A file or folder name that is not empty (an empty one was once taken as no option)."""
+    def parse(text: str) -> str:
+        if not text.strip():
+            raise argparse.ArgumentTypeError(f"{name} needs a name, not an empty one")
+        return text
+
+    return parse
+
+
+def _same_file(a: str, b: str) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return os.path.abspath(a) == os.path.abspath(b)
 
 
 def _lab_arguments(parser: argparse.ArgumentParser) -> argparse._ArgumentGroup:
@@ -93,15 +120,17 @@ def _add_play(sub: argparse._SubParsersAction) -> None:
     play.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0)
     play.add_argument("--scale", type=_int_in("--scale", 1, 8), default=3)
     play.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE)
-    play.add_argument("--screenshot", metavar="FILE",
+    play.add_argument("--screenshot", metavar="FILE", type=_named("--screenshot"),
                       help="run headless for --ticks with the autopilot, save the window as PNG")
     play.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=600)
     play.add_argument("--overlay", action="store_true", help="start with the debug overlay on")
     play.add_argument("--mute", action="store_true", help="start with the sound off (M toggles)")
     play.add_argument("--attract", choices=("title", "table", "insert"),
                       help="with --screenshot: save that screen of the attract cycle instead")
-    play.add_argument("--record", metavar="FILE", help="record the game as a replay (JSON)")
-    play.add_argument("--replay", metavar="FILE", help="watch a replay instead of playing")
+    play.add_argument("--record", metavar="FILE", type=_named("--record"),
+                      help="record the game as a replay (JSON)")
+    play.add_argument("--replay", metavar="FILE", type=_named("--replay"),
+                      help="watch a replay instead of playing")
     play.add_argument("--speed", type=_int_in("--speed", 1, 64), default=1,
                       help="replay speed multiplier")
     _lab_arguments(play).add_argument(
@@ -125,12 +154,14 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     lab = _lab_arguments(run)
     lab.add_argument("--shadow", action="store_true",
                      help="score every tick's contacts against the exact oracle")
-    run.add_argument("--record", metavar="FILE", help="save the run as a replay (JSON)")
+    run.add_argument("--record", metavar="FILE", type=_named("--record"),
+                     help="save the run as a replay (JSON)")
 
 
 def _add_replay(sub: argparse._SubParsersAction) -> None:
     check = sub.add_parser("replay", help="run replays headless and check their checkpoints")
-    check.add_argument("paths", nargs="+", metavar="PATH", help="replay files or folders")
+    check.add_argument("paths", nargs="+", metavar="PATH", type=_named("PATH"),
+                       help="replay files or folders")
     check.add_argument("--update", action="store_true",
                        help="rewrite the expected checkpoints (after an intended rule change)")
     check.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE)
@@ -145,7 +176,7 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
                        help="run scenes in this many processes")
     study.add_argument("--scheduler", metavar="ADDRESS",
                        help="run scenes on a Dask cluster (the [study] extra)")
-    study.add_argument("--out", metavar="FOLDER", default="study",
+    study.add_argument("--out", metavar="FOLDER", default="study", type=_named("--out"),
                        help="where study.csv, scaling.csv and the charts go")
     study.add_argument("--replays", metavar="FOLDER", default=None,
                        help="the replays to study (*.json)")
@@ -272,6 +303,9 @@ def cmd_play(args: argparse.Namespace) -> int:
             raise UsageError(f"{args.replay}: {err}") from None
     if args.record:
         check_output(args.record, "replay", REPLAY_SUFFIXES)
+        if args.replay and _same_file(args.replay, args.record):
+            raise UsageError(f"--record {args.record} is the replay being watched: recording "
+                             "would overwrite it")
     import pygame
 
     try:
