@@ -74,3 +74,17 @@ def test_shield_columns_are_those_with_a_lit_pixel_and_follow_erosion():
         False, True, True)
     assert lit == lit_by_pixels()
     assert pilot._shields.edges(world) == {x - 8 for x in lit}
+
+
+def test_shield_columns_keep_only_the_shields_of_the_wave_in_play():
+    """Each wave makes new shields: what was kept of the old ones goes, so a long run's
+    memory stays flat (it grew by every wave's shields)."""
+    world = World(seed=1)
+    columns = ShieldColumns()
+    for wave in range(2, 40):
+        columns.lit(world)
+        assert set(columns._seen) == {bunker.id for bunker in world.bunkers}
+        world._start_wave(wave)
+    assert columns.lit(world) == {bunker.x + cx for bunker in world.bunkers
+                                  for cx in range(bunker.w)
+                                  if any(bunker.mask.get_at((cx, cy)) for cy in range(bunker.h))}

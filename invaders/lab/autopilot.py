@@ -277,6 +277,9 @@ class ShieldColumns:
         a shield covers: the columns less the cannon's centre, as the autopilot compares
         boxes."""
         if world.erosions != self._key[1] or world.bunkers is not self._key[0]:
+            if world.bunkers is not self._key[0]:  # a new wave's shields: forget the old
+                ids = {bunker.id for bunker in world.bunkers}
+                self._seen = {i: seen for i, seen in self._seen.items() if i in ids}
             self._key = (world.bunkers, world.erosions)
             self._lit = self._all_columns(world)
             centre = world.config.geometry.cannon_centre
