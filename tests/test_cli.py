@@ -199,3 +199,16 @@ def test_watching_a_replay_while_recording_over_it_is_refused(tmp_path, capsys):
                  str(tmp_path / "." / "game.json")]) == 2
     assert "would overwrite it" in capsys.readouterr().err
     assert watched.read_bytes() == before
+
+
+def test_an_unreachable_dask_scheduler_is_bad_input_and_makes_nothing(tmp_path, monkeypatch,
+                                                                      capsys):
+    from invaders.app import cli
+
+    monkeypatch.setattr(cli, "SCHEDULER_TIMEOUT", 1.0)
+    out = tmp_path / "study-out"
+    assert main(["study", "--quick", "--scheduler", "tcp://127.0.0.1:1", "--out",
+                 str(out)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "no Dask scheduler answers" in err
+    assert not out.exists()

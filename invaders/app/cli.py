@@ -358,6 +358,24 @@ def cmd_bench(args: argparse.Namespace) -> int:
         return 1
 
 
+SCHEDULER_TIMEOUT = 5.0  # seconds to reach a Dask scheduler before calling it bad input
+
+
+def _reach_scheduler(address: str) -> None:
+    """UsageError unless a Dask scheduler answers at `address` (before anything is made)."""
+    try:
+        from dask.distributed import Client
+    except ImportError:
+        raise UsageError("--scheduler needs Dask: pip install 'invaders[study]'") from None
+    try:
+        with Client(address, timeout=SCHEDULER_TIMEOUT):
+            pass
+    except (OSError, TimeoutError, ValueError) as err:
+        reason = str(err).splitlines()[0][:120] if str(err) else type(err).__name__
+        raise UsageError(f"--scheduler {_quoted(address, 60)}: no Dask scheduler answers "
+                         f"there within {SCHEDULER_TIMEOUT:g} s ({reason})") from None
+
+
 def cmd_study(args: argparse.Namespace) -> int:
     from pathlib import Path
 
@@ -375,10 +393,7 @@ def cmd_study(args: argparse.Namespace) -> int:
                   "(--replays FOLDER adds recorded games)")
             replays = None
     if args.scheduler:
-        try:
-            import dask.distributed  # noqa: F401
-        except ImportError:
-            raise UsageError("--scheduler needs Dask: pip install 'invaders[study]'") from None
+        _reach_scheduler(args.scheduler)
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise UsageError(f"--out {args.out!r} is a file, not a folder")
