@@ -403,3 +403,33 @@ def test_a_version_1_file_may_spread_its_one_object_over_lines(tmp_path):
     pretty.write_text(json.dumps(data, indent=2)[:-40] + "\n")  # cut: still refused
     with pytest.raises(ReplayError, match="line 1: invalid JSON"):
         load(pretty)
+
+
+def test_update_goes_on_past_a_file_it_cannot_write_and_sums_up(tmp_path, monkeypatch, capsys):
+    """A full disk on the first file: the second is still updated, the summary printed,
+    exit 2 (it stopped at the first, the second never updated, no summary)."""
+    import errno
+
+    from invaders.app import replay_check
+
+    source = Path(__file__).resolve().parents[1] / "replays" / "saucer-300.json"
+    files = []
+    for name in ("a.json", "b.json"):
+        lines = source.read_text().splitlines()
+        last = json.loads(lines[-1])
+        last["checkpoint"]["score"] += 10  # a checkpoint that --update rewrites
+        (tmp_path / name).write_text("\n".join([*lines[:-1], json.dumps(last)]) + "\n")
+        files.append(tmp_path / name)
+    real = replay_check.save_replay
+
+    def full_disk_for_a(path, replay):
+        if Path(path).name == "a.json":
+            raise OSError(errno.ENOSPC, "No space left on device")
+        real(path, replay)
+
+    monkeypatch.setattr(replay_check, "save_replay", full_disk_for_a)
+    assert main(["replay", "--update", *map(str, files)]) == 2
+    printed = capsys.readouterr()
+    assert "no space left on the device" in printed.err and "a.json" in printed.err
+    assert "1 of 2 replay files changed" in printed.out
+    assert main(["replay", str(files[1])]) == 0

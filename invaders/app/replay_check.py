@@ -35,8 +35,13 @@ def check_all(args: list[str], update: bool = False, broadphase: str = DEFAULT_B
             print(f"invaders: error: {path}: {err}", file=sys.stderr)
             worst = 2
             continue
-        with working_on(path):
-            outcome = _check(path, replay, broadphase, update)
+        try:
+            with working_on(path):
+                outcome = _check(path, replay, broadphase, update)
+        except OutputError as err:  # (a full disk: the others are still checked)
+            print(f"invaders: error: {err}", file=sys.stderr)
+            worst = 2
+            continue
         if outcome == UPDATED:
             changed += 1
         else:
