@@ -170,12 +170,12 @@ def test_the_bare_step_loop_and_ale_share_one_input_cycle_that_plays_the_game():
 
 
 @pytest.mark.parametrize("words, problem", [
-    (["play", "--record", ""], "--record needs a name"),
-    (["play", "--replay", " "], "--replay needs a name"),
-    (["play", "--screenshot", ""], "--screenshot needs a name"),
-    (["run", "--record", ""], "--record needs a name"),
-    (["replay", ""], "PATH needs a name"),
-    (["study", "--out", ""], "--out needs a name"),
+    (["play", "--record", ""], "--record: an empty file name"),
+    (["play", "--replay", " "], "--replay: an empty file name"),
+    (["play", "--screenshot", ""], "--screenshot: an empty file name"),
+    (["run", "--record", ""], "--record: an empty file name"),
+    (["replay", ""], "PATH: an empty file name"),
+    (["study", "--out", ""], "--out: an empty file name"),
     (["run", "--ticks", "9" * 5000], "--ticks must be between 1 and"),
     (["run", "--seed", "x" * 300], "--seed must be a whole number, not 'xxxxxxxx"),
 ])

@@ -433,3 +433,20 @@ def test_update_goes_on_past_a_file_it_cannot_write_and_sums_up(tmp_path, monkey
     assert "no space left on the device" in printed.err and "a.json" in printed.err
     assert "1 of 2 replay files changed" in printed.out
     assert main(["replay", str(files[1])]) == 0
+
+
+@pytest.mark.parametrize("edit, quoted", [
+    (lambda h: h.update(format="x" * 10_000), "... (10,002 characters)"),
+    (lambda h: h.update(version=list(range(100_000))), "version a list of 100,000 items"),
+    (lambda h: h["config"].update({"k" * 5000: 1}), "... (5,002 characters)"),
+])
+def test_errors_quote_a_short_prefix_of_what_the_file_holds(replay_file, tmp_path, capsys,
+                                                            edit, quoted):
+    lines = Path(replay_file).read_text().splitlines()
+    header = json.loads(lines[0])
+    edit(header)
+    path = tmp_path / "long.json"
+    path.write_text("\n".join([json.dumps(header), *lines[1:]]) + "\n")
+    assert main(["replay", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert quoted in err and len(err) < 300

@@ -57,7 +57,7 @@ def _named(name: str):
     """A file or folder name that is not empty (an empty one was once taken as no option)."""
     def parse(text: str) -> str:
         if not text.strip():
-            raise argparse.ArgumentTypeError(f"{name} needs a name, not an empty one")
+            raise argparse.ArgumentTypeError(f"{name}: an empty file name")
         return text
 
     return parse

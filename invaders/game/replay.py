@@ -163,9 +163,18 @@ def _need(cond: bool, problem: str) -> None:
         raise ReplayError(problem)
 
 
+def _shown(value: Any, most: int = 40) -> str:
+    """A value from the file as an error quotes it: its first characters, never all of it
+    (a field may hold megabytes)."""
+    if isinstance(value, (list, dict)):
+        return f"a {type(value).__name__} of {len(value):,} items"
+    text = repr(value)
+    return text if len(text) <= most else f"{text[:most]}... ({len(text):,} characters)"
+
+
 def _int(value: Any, name: str, low: int = 0, high: int = 2**63 - 1) -> int:
     _need(type(value) is int, f"{name} must be a whole number")
-    _need(low <= value <= high, f"{name} {value} is out of range {low}..{high}")
+    _need(low <= value <= high, f"{name} {_shown(value)} is out of range {low}..{high}")
     return value
 
 
@@ -186,7 +195,7 @@ def _config(data: Any, cls: type = GameConfig, name: str = "config") -> Any:
     fields = {f.name: f for f in dataclasses.fields(cls)}
     unknown = sorted(str(k) for k in set(data) - set(fields))
     if unknown:
-        raise ReplayError(f"{name} has unknown field {unknown[0]!r}")
+        raise ReplayError(f"{name} has unknown field {_shown(unknown[0])}")
     values = {}
     for key in fields:
         if key not in data and key in ADDED_LATER.get(name, ()):
@@ -277,10 +286,11 @@ def _switches(listed: Any, where: str, start: int, end: int, out: list[Switch]) 
 def _header(data: Any) -> tuple[int, int, GameConfig, str]:
     """(version, seed, config, program) from a file's first object."""
     _need(isinstance(data, dict), "the file must hold a JSON object")
-    _need(data.get("format") == FORMAT, f"format must be {FORMAT!r}, not {data.get('format')!r}")
+    _need(data.get("format") == FORMAT,
+          f"format must be {FORMAT!r}, not {_shown(data.get('format'))}")
     version = data.get("version")
     _need(type(version) is int and version in READS,
-          f"version {version!r} is not supported (this program reads "
+          f"version {_shown(version)} is not supported (this program reads "
           f"{' and '.join(map(str, READS))})")
     for key in ("program", "seed", "config"):
         _need(key in data, f"field {key!r} is missing")
