@@ -48,6 +48,15 @@ MAX_RUNS = 1_000_000  # input changes; a recorded game makes one every 7 to 12 t
 MAX_DIGITS = 20  # the longest number a field holds (a 63-bit seed) has 19 digits
 MAX_SWITCHES = 1000  # lab switches in one line: a person presses keys a few times a second
 MAX_SWITCH_FIELDS = 16
+# Lines are bounded so that no parse of a structure not yet checked can be large: the
+# header (a config of a few hundred fields) and each checkpoint's line (at most a
+# checkpoint's worth of input runs, lab switches and the checkpoint). A version-1 file is
+# one object holding everything: it is bounded as a whole (version 2 writes long games).
+MAX_HEADER_BYTES = 16 * 1024
+MAX_LINE_BYTES = 256 * 1024
+MAX_V1_BYTES = 8 * 1024 * 1024
+HEADER_KEYS = frozenset({"format", "version", "program", "seed", "config"})
+V1_KEYS = HEADER_KEYS | {"ticks", "inputs", "checkpoints"}
 Switch = tuple[int, dict[str, Any]]  # a lab choice, and the tick before whose step it began
 HASH = re.compile(r"^[0-9a-f]{32}$")
 GROUP_HASH = re.compile(r"^[0-9a-f]{16}$")
@@ -294,6 +303,8 @@ def _header(data: Any) -> tuple[int, int, GameConfig, str]:
           f"{' and '.join(map(str, READS))})")
     for key in ("program", "seed", "config"):
         _need(key in data, f"field {key!r} is missing")
+    unknown = sorted(str(k) for k in set(data) - (V1_KEYS if version == 1 else HEADER_KEYS))
+    _need(not unknown, f"unknown field {_shown(unknown[0]) if unknown else ''}")
     _need(isinstance(data["program"], str) and len(data["program"]) <= 200,
           "program must be a string of at most 200 characters")
     return version, _int(data["seed"], "seed"), _config(data["config"]), data["program"]
@@ -329,6 +340,8 @@ def parse(data: Any) -> Replay:
 def parse_lines(lines: list[str], numbers: list[int] | None = None) -> Replay:
     """A version-2 Replay from its lines (the header first), or ReplayError; `numbers`: each
     line's number in its file (blank lines left out between them), 1, 2, 3... by default."""
+    _need(len(lines[0]) <= MAX_HEADER_BYTES,
+          f"the header line is {len(lines[0]):,} characters: at most {MAX_HEADER_BYTES:,}")
     _, seed, config, program = _header(_decode(lines[0], "the header line"))
     runs: list[list[int]] = []
     checkpoints: list[Checkpoint] = []
@@ -337,6 +350,9 @@ def parse_lines(lines: list[str], numbers: list[int] | None = None) -> Replay:
     numbered = zip(numbers[1:] if numbers else range(2, len(lines) + 1), lines[1:], strict=True)
     for number, line in numbered:
         where = f"line {number}"
+        _need(len(line) <= MAX_LINE_BYTES,
+              f"{where} is {len(line):,} characters: a checkpoint's line is at most "
+              f"{MAX_LINE_BYTES:,}")
         data = _decode(line, where)
         _need(isinstance(data, dict) and set(data) - {"lab"} == {"inputs", "checkpoint"},
               f"{where} must hold exactly inputs and checkpoint (and lab switches)")
@@ -357,10 +373,26 @@ def _bounded_int(text: str) -> int:
     return int(text)
 
 
+def _no_fraction(text: str) -> float:
+    raise ReplayError(f"a fraction ({_shown(text)}): every number in a replay is whole")
+
+
+def _no_constant(text: str) -> float:
+    raise ReplayError(f"{text} is not a number a replay holds")
+
+
 def _decode(text: str, where: str) -> Any:
+    """JSON, refused before parsing when it holds more lists, objects or fields than a
+    replay of its length can (a replay spends about 100 characters an object and 20 a
+    field), and at the first fraction, NaN or Infinity."""
     _need(text.count("[") <= MAX_RUNS + 64, f"{where} holds more lists than a replay can")
+    _need(text.count("{") <= len(text) // 32 + 64, f"{where} holds more objects than a replay can")
+    _need(text.count(":") <= len(text) // 8 + 256, f"{where} holds more fields than a replay can")
     try:
-        return json.loads(text, parse_int=_bounded_int)
+        return json.loads(text, parse_int=_bounded_int, parse_float=_no_fraction,
+                          parse_constant=_no_constant)
+    except ReplayError as err:  # (from a number the hooks refused)
+        raise ReplayError(f"{where}: {err}") from None
     except json.JSONDecodeError as err:
         raise ReplayError(f"{where}: invalid JSON at column {err.colno}: {err.msg}") from None
     except RecursionError:
@@ -403,6 +435,9 @@ def load(path: str | Path) -> Replay:
     numbers = [n for n, line in enumerate(lines, 1) if line.strip()]  # as the file counts
     lines = [lines[n - 1] for n in numbers]
     _need(bool(lines), "the file holds no complete line")
+    _need(len(text) <= MAX_V1_BYTES or not _V1_MARK.search(text[:4096]),
+          f"a version-1 replay may be at most {MAX_V1_BYTES:,} bytes (longer games are "
+          "written in version 2)")
     try:
         first = _decode(lines[0], f"line {numbers[0]}")
     except ReplayError:
@@ -414,6 +449,9 @@ def load(path: str | Path) -> Replay:
         _need(len(lines) == 1, "a version-1 replay is one JSON object")
         return parse(first)
     return parse_lines(lines, numbers)
+
+
+_V1_MARK = re.compile(r'"version"\s*:\s*1\b')
 
 
 def _is_version_1(data: Any) -> bool:
