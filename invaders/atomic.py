@@ -10,13 +10,22 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import IO
 
+TEMPORARY_SUFFIX = ".tmp"
+TEMPORARY_EXTRA = 14  # bytes a temporary name adds: a dot, a dot, 8 random, ".tmp"
+
+
+def temporary_prefix(target: Path) -> str:
+    """The start of the name a file is first written under, beside its final place."""
+    return f".{target.name}."
+
 
 @contextlib.contextmanager
 def atomic_writer(path: str | os.PathLike[str], mode: str = "w") -> Iterator[IO]:
     """Yield a file to write; on success it replaces `path` in one rename, else it vanishes."""
     target = Path(path)
     folder = target.parent if str(target.parent) else Path(".")
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
+    fd, tmp = tempfile.mkstemp(prefix=temporary_prefix(target), suffix=TEMPORARY_SUFFIX,
+                               dir=folder)
     _usual_permissions(fd)
     try:
         with os.fdopen(fd, mode, newline="" if "b" not in mode else None) as handle:
@@ -66,7 +75,7 @@ def clean_stale(path: str | os.PathLike[str]) -> None:
     """Remove temporary files an interrupted atomic write of `path` left beside it."""
     target = Path(path)
     folder = target.parent if str(target.parent) else Path(".")
-    for stale in folder.glob(f".{glob_escape(target.name)}.*.tmp"):
+    for stale in folder.glob(glob_escape(temporary_prefix(target)) + "*" + TEMPORARY_SUFFIX):
         with contextlib.suppress(OSError):
             stale.unlink()
 

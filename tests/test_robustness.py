@@ -41,7 +41,8 @@ def _one_line_error(capsys, args: list[str]) -> str:
     ("", "an empty file name"),
     ("missing/game.json", "no such folder"),
     ("/dev/null", "not a regular file"),
-    ("x" * 300 + ".json", "longer than 255 bytes"),
+    ("x" * 300 + ".json", "longer than 241 bytes"),
+    ("x" * 240 + ".json", "longer than 241 bytes"),  # fits, but its temporary name does not
     ("game.txt", "must end in .json"),
 ])
 def test_a_recording_that_cannot_be_written_is_refused_before_the_run(capsys, tmp_path,
@@ -339,3 +340,29 @@ def test_a_signal_ends_a_recorded_window_game_with_its_code_and_a_valid_file(
     replay = load(path)
     assert 360 < replay.ticks <= 400 and run(replay)[0].mismatch is None
     assert sum(1 for bits, n in replay.inputs if bits & 4 for _ in range(n)) > 0  # it fired
+
+
+def test_the_temporary_name_is_as_much_longer_as_the_check_allows_for(tmp_path):
+    from invaders.atomic import TEMPORARY_EXTRA, atomic_writer
+
+    target = tmp_path / ("y" * 200 + ".json")
+    with atomic_writer(target) as handle:
+        handle.write("{}")
+        (temporary,) = [p for p in tmp_path.iterdir() if p != target]
+    assert len(temporary.name) == len(target.name) + TEMPORARY_EXTRA
+    longest = tmp_path / ("z" * (255 - TEMPORARY_EXTRA - 5) + ".json")
+    with atomic_writer(longest) as handle:  # the longest name the check lets through
+        handle.write("{}")
+    assert longest.read_text() == "{}"
+
+
+def test_another_users_file_in_a_sticky_folder_is_refused_before_the_run(tmp_path, capsys,
+                                                                        monkeypatch):
+    folder = tmp_path / "shared"
+    folder.mkdir()
+    folder.chmod(0o1777)  # as /tmp: only a file's owner may replace it
+    (folder / "game.json").write_text("{}")  # (ours, as root; the check is told otherwise)
+    monkeypatch.setattr(os, "geteuid", lambda: 12345)
+    err = _one_line_error(capsys, ["run", "--ticks", "5", "--record",
+                                   str(folder / "game.json")])
+    assert "another user's file" in err and (folder / "game.json").read_text() == "{}"

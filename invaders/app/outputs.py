@@ -13,8 +13,11 @@ import contextlib
 import errno
 import os
 import stat
+import tempfile
 from collections.abc import Iterator
 from pathlib import Path
+
+from invaders.atomic import TEMPORARY_EXTRA, TEMPORARY_SUFFIX, temporary_prefix
 
 NAME_MAX = 255  # bytes in one file name on the file systems we write to
 
@@ -29,8 +32,10 @@ def check_output(path: str, what: str, suffixes: tuple[str, ...]) -> Path:
     if not path:
         raise OutputError(f"{what}: an empty file name")
     target = Path(path)
-    if len(os.fsencode(target.name)) > NAME_MAX:
-        raise OutputError(f"{what} {shown!r}: the file name is longer than {NAME_MAX} bytes")
+    if len(os.fsencode(target.name)) + TEMPORARY_EXTRA > NAME_MAX:
+        raise OutputError(f"{what} {shown!r}: the file name is longer than "
+                          f"{NAME_MAX - TEMPORARY_EXTRA} bytes (it is written under a "
+                          f"temporary name {TEMPORARY_EXTRA} bytes longer, at most {NAME_MAX})")
     folder = target.parent if str(target.parent) else Path(".")
     try:
         folder_info = os.stat(folder)
@@ -57,7 +62,30 @@ def check_output(path: str, what: str, suffixes: tuple[str, ...]) -> Path:
                           "(a device, a pipe or a link), and will not be replaced")
     if target.suffix.lower() not in suffixes:
         raise OutputError(f"{what} {shown!r} must end in {' or '.join(suffixes)}")
+    if info is not None and _sticky_and_not_ours(folder_info, info):
+        raise OutputError(f"cannot write {what} {shown!r}: permission denied (another user's "
+                          "file in a folder where only its owner may replace it)")
+    _try_temporary(folder, target, f"cannot write {what} {shown!r}")
     return target
+
+
+def _sticky_and_not_ours(folder: os.stat_result, file: os.stat_result) -> bool:
+    """Whether a rename over the file would fail: a sticky folder (as /tmp) lets only the
+    file's owner, the folder's owner or root replace it."""
+    uid = os.geteuid()
+    return bool(folder.st_mode & stat.S_ISVTX) and uid not in (0, file.st_uid, folder.st_uid)
+
+
+def _try_temporary(folder: Path, target: Path, problem: str) -> None:
+    """Make and remove the temporary file the write will use, before any work is done:
+    whatever would stop it (a name too long, no space for an inode, a quota) stops it now."""
+    try:
+        fd, name = tempfile.mkstemp(prefix=temporary_prefix(target), suffix=TEMPORARY_SUFFIX,
+                                    dir=folder)
+    except OSError as err:
+        raise OutputError(f"{problem}: {err.strerror or err}") from None
+    os.close(fd)
+    os.unlink(name)
 
 
 @contextlib.contextmanager
