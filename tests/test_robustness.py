@@ -366,3 +366,52 @@ def test_another_users_file_in_a_sticky_folder_is_refused_before_the_run(tmp_pat
     err = _one_line_error(capsys, ["run", "--ticks", "5", "--record",
                                    str(folder / "game.json")])
     assert "another user's file" in err and (folder / "game.json").read_text() == "{}"
+
+
+def test_a_recording_stops_at_the_readers_limit_and_the_file_replays(tmp_path, capsys):
+    """The limit lowered to 3,000 bytes: the recording stops at the last checkpoint that
+    fits, says so in one line, and its reader takes the whole file (it once wrote files of
+    67,522,325 bytes that its reader refused)."""
+    from invaders.app.recording import Recorder
+    from invaders.game.replay import load, run
+    from invaders.game.world import World
+    from invaders.lab.autopilot import Autopilot
+
+    world, pilot, path = World(seed=3), Autopilot(3), tmp_path / "long.json"
+    recorder = Recorder(world, path, save_every=60, limit=3000)
+    for _ in range(2000):
+        bits = pilot.actions(world)
+        world.step(bits)
+        recorder.tick(bits)
+    recorder.save()
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"recording stopped at tick {recorder.ticks}" in err[0]
+    assert 2000 > recorder.ticks > 0 and recorder.ticks % 60 == 0
+    assert path.stat().st_size <= 3000
+    replay = load(path)
+    assert replay.ticks == recorder.ticks
+    assert run(replay)[0].mismatch is None
+
+
+def test_recording_to_a_file_keeps_no_more_memory_late_than_early(tmp_path):
+    """Python keeps freed tuples for reuse and imports a module or two at the first contact,
+    so a flat recording still shows some growth; keeping every input run and checkpoint,
+    as the recorder did, adds about 500 KB over these 24,000 ticks."""
+    import tracemalloc
+
+    from invaders.app.recording import Recorder
+    from invaders.game.world import World
+    from invaders.lab.autopilot import Autopilot
+
+    world, pilot = World(seed=5), Autopilot(5)
+    recorder = Recorder(world, tmp_path / "game.json", save_every=600)
+    tracemalloc.start()
+    sizes = {}
+    for tick in range(1, 32_001):
+        bits = pilot.actions(world) | (8 if tick % 3000 == 0 else 0)  # games end and start
+        world.step(bits)
+        recorder.tick(bits)
+        if tick in (8_000, 32_000):
+            sizes[tick] = tracemalloc.get_traced_memory()[0]
+    tracemalloc.stop()
+    assert sizes[32_000] - sizes[8_000] < 200 * 1024, sizes

@@ -401,7 +401,7 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = DEFAULT_BROADPHASE, ov
             if recorder is not None:
                 with writing(record or "", "replay"):
                     recorder.save()
-                print(f"saved {record}: {recorder.replay.ticks} ticks")
+                print(f"saved {record}: {recorder.ticks} ticks")
             pygame.display.quit()
     if signals.received is not None:
         print(f"invaders: stopped by {signals.name}", file=sys.stderr)
