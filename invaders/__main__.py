@@ -1,8 +1,17 @@
-"""`python -m invaders` is `invaders play`."""
+"""`python -m invaders` is `invaders play`; the `invaders` command starts here too, so that
+a Ctrl-C while the program is still loading is one line, as everywhere else."""
 
 import sys
 
-from invaders.app.cli import main
+
+def run(argv: list[str] | None = None) -> int:
+    try:
+        from invaders.app.cli import main
+    except KeyboardInterrupt:
+        print("invaders: interrupted", file=sys.stderr)
+        return 130
+    return main(argv)
+
 
 if __name__ == "__main__":
-    sys.exit(main(["play", *sys.argv[1:]]))
+    sys.exit(run(["play", *sys.argv[1:]]))

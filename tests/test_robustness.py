@@ -336,7 +336,8 @@ def test_a_signal_ends_a_recorded_window_game_with_its_code_and_a_valid_file(
     path = tmp_path / "played.json"
     assert main(["play", "--record", str(path), "--seed", "3"]) == 143
     out, err = capsys.readouterr()
-    assert f"saved {path}" in out and "stopped by SIGTERM" in err
+    (line,) = err.splitlines()  # one line for the stop and the file (it was two)
+    assert line.startswith(f"invaders: stopped by SIGTERM; saved {path}: ") and out == ""
     replay = load(path)
     assert 360 < replay.ticks <= 400 and run(replay)[0].mismatch is None
     assert sum(1 for bits, n in replay.inputs if bits & 4 for _ in range(n)) > 0  # it fired
@@ -415,3 +416,60 @@ def test_recording_to_a_file_keeps_no_more_memory_late_than_early(tmp_path):
             sizes[tick] = tracemalloc.get_traced_memory()[0]
     tracemalloc.stop()
     assert sizes[32_000] - sizes[8_000] < 200 * 1024, sizes
+
+
+def test_two_signals_a_moment_apart_still_end_on_a_whole_tick_with_the_first_ones_code(
+        tmp_path, capsys, monkeypatch):
+    from invaders.lab.autopilot import Autopilot
+
+    plays = Autopilot.actions
+
+    def actions(self, world):
+        if world.tick == 500:
+            os.kill(os.getpid(), signal.SIGTERM)
+            os.kill(os.getpid(), signal.SIGINT)  # (it once exited 130, "interrupted")
+        return plays(self, world)
+
+    monkeypatch.setattr(Autopilot, "actions", actions)
+    path = tmp_path / "run.json"
+    assert main(["run", "--autopilot", "--ticks", "100000", "--record", str(path)]) == 143
+    assert capsys.readouterr().err.splitlines() == [
+        f"invaders: stopped by SIGTERM at tick 501; saved {path} (501 ticks)"]
+    assert run(load(path))[0].mismatch is None
+
+
+def test_a_signal_ignored_when_the_program_started_stays_ignored(capsys, monkeypatch):
+    """As under nohup: SIGHUP ignored by whoever started us does not stop the run."""
+    from invaders.lab.autopilot import Autopilot
+
+    plays = Autopilot.actions
+
+    def actions(self, world):
+        if world.tick == 100:
+            os.kill(os.getpid(), signal.SIGHUP)
+        return plays(self, world)
+
+    monkeypatch.setattr(Autopilot, "actions", actions)
+    previous = signal.signal(signal.SIGHUP, signal.SIG_IGN)
+    try:
+        assert main(["run", "--autopilot", "--ticks", "300"]) == 0
+    finally:
+        signal.signal(signal.SIGHUP, previous)
+    assert "ran 300 ticks" in capsys.readouterr().out
+
+
+def test_ctrl_c_while_the_program_is_still_loading_is_one_line(capsys, monkeypatch):
+    import builtins
+
+    from invaders.__main__ import run as command
+
+    real = builtins.__import__
+
+    def interrupted(name, *args, **kwargs):
+        if name == "invaders.app.cli":
+            raise KeyboardInterrupt
+        return real(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", interrupted)
+    assert command(["run", "--ticks", "1"]) == 130
+    assert capsys.readouterr().err == "invaders: interrupted\n"

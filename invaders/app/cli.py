@@ -424,13 +424,16 @@ COMMANDS = {"play": Command(_add_play, cmd_play), "run": Command(_add_run, cmd_r
 def main(argv: Sequence[str] | None = None) -> int:
     """Run one command; exit codes: 0 ok, 1 a check failed, 2 bad input or usage, 3 an
     internal error (one line; `--debug` anywhere on the line prints the traceback)."""
-    from invaders.app.outputs import OutputError
-    from invaders.app.processing import current
-
-    current.clear()
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
     argv = [arg for arg in argv if arg != "--debug"]
+    try:
+        from invaders.app.outputs import OutputError
+        from invaders.app.processing import current
+    except KeyboardInterrupt:  # (Ctrl-C while the program is still loading)
+        print("invaders: interrupted", file=sys.stderr)
+        return 130
+    current.clear()
     try:
         args = build_parser(argv[0] if argv and argv[0] in COMMANDS else None).parse_args(argv)
         if args.command is None:

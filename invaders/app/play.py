@@ -401,11 +401,14 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = DEFAULT_BROADPHASE, ov
             if recorder is not None:
                 with writing(record or "", "replay"):
                     recorder.save()
-                print(f"saved {record}: {recorder.ticks} ticks")
             pygame.display.quit()
-    if signals.received is not None:
-        print(f"invaders: stopped by {signals.name}", file=sys.stderr)
+    saved = f"saved {record}: {recorder.ticks} ticks" if recorder is not None else ""
+    if signals.received is not None:  # one line for the stop and what was saved
+        print(f"invaders: stopped by {signals.name}" + (f"; {saved}" if saved else ""),
+              file=sys.stderr)
         return signals.exit_code
+    if saved:
+        print(saved)
     return 0
 
 

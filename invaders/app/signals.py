@@ -2,7 +2,10 @@
 
 While a `StopSignals` is active, SIGINT, SIGTERM and SIGHUP only note that a stop was asked;
 the loop looks at `received` between ticks and winds down, so a recording always ends on a
-whole tick. A second signal of the kind stops at once (as a plain Ctrl-C would).
+whole tick. A signal that was ignored when the program started (SIGHUP under `nohup`) stays
+ignored. A second signal while winding down changes nothing (two sent a millisecond apart
+still end the run on a whole tick, with the first one's code); a third stops at once, as a
+plain Ctrl-C would, for a program that no longer reaches a tick's end.
 """
 
 from __future__ import annotations
@@ -11,22 +14,28 @@ import signal
 from types import FrameType, TracebackType
 
 SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+FORCE_AFTER = 3  # signals, counting the first, after which the program stops at once
 
 
 class StopSignals:
     def __init__(self) -> None:
         self.received: int | None = None
+        self._count = 0
         self._previous: dict[int, object] = {}
 
     def __enter__(self) -> StopSignals:
         for signum in SIGNALS:
+            if signal.getsignal(signum) is signal.SIG_IGN:
+                continue  # ignored by whoever started us (nohup): theirs to decide
             self._previous[signum] = signal.signal(signum, self._handle)
         return self
 
     def _handle(self, signum: int, frame: FrameType | None) -> None:
-        if self.received is not None:
+        self._count += 1
+        if self._count >= FORCE_AFTER:
             raise KeyboardInterrupt
-        self.received = signum
+        if self.received is None:
+            self.received = signum
 
     def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
                  trace: TracebackType | None) -> None:
