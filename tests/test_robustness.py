@@ -473,3 +473,24 @@ def test_ctrl_c_while_the_program_is_still_loading_is_one_line(capsys, monkeypat
     monkeypatch.setattr(builtins, "__import__", interrupted)
     assert command(["run", "--ticks", "1"]) == 130
     assert capsys.readouterr().err == "invaders: interrupted\n"
+
+
+def test_an_append_that_fails_says_how_many_ticks_the_file_keeps(tmp_path, capsys,
+                                                                 monkeypatch):
+    """The disk fills at the second save (tick 7,200): one line, exit 2, and the number of
+    ticks the file still holds, which replay."""
+    import errno
+
+    from invaders.app import recording
+
+    def no_space(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(recording, "open", no_space, raising=False)
+    path = tmp_path / "run.json"
+    assert main(["run", "--autopilot", "--ticks", "8000", "--record", str(path)]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and "no space left on the device" in err[0]
+    assert "the file keeps its first 3600 ticks" in err[0]
+    replay = load(path)
+    assert replay.ticks == 3600 and run(replay)[0].mismatch is None

@@ -89,15 +89,16 @@ def _try_temporary(folder: Path, target: Path, problem: str) -> None:
 
 
 @contextlib.contextmanager
-def writing(path: str | os.PathLike[str], what: str) -> Iterator[None]:
-    """Turn a failed write (no space, permission, read-only) into an OutputError."""
+def writing(path: str | os.PathLike[str], what: str, kept: str = "") -> Iterator[None]:
+    """Turn a failed write (no space, permission, read-only) into an OutputError; `kept`
+    says what the file still holds, when that is worth knowing."""
     try:
         yield
     except OSError as err:
         reason = err.strerror or str(err)
         if err.errno == errno.ENOSPC:
             reason = "no space left on the device"
-        raise OutputError(f"cannot write {what} {str(path)!r}: {reason}") from None
+        raise OutputError(f"cannot write {what} {str(path)!r}: {reason}{kept}") from None
 
 
 REPLAY_SUFFIXES = (".json",)  # `invaders replay FOLDER` reads *.json

@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 from typing import Any, Protocol
 
+from invaders.app.outputs import writing
 from invaders.atomic import clean_stale, write_atomic
 from invaders.game.config import GameConfig
 from invaders.game.replay import (
@@ -64,6 +65,7 @@ class Recorder:
         self._runs = 0  # input runs recorded
         self._first_tick = self._last_tick = world.tick  # the last checkpoint's tick
         self._started = False
+        self._saved_ticks = 0  # ticks the file on disk holds
         self.stopped: str | None = None  # why recording stopped early, once it has
 
     @property
@@ -129,16 +131,20 @@ class Recorder:
         if self.path is None:
             return
         self.finished()
-        if not self._started:
-            clean_stale(self.path)
-            write_atomic(self.path, self.replay.header_line() + "".join(self._unsaved))
-            self._started = True
-        elif self._unsaved:
-            with open(self.path, "a", encoding="utf-8") as handle:
-                handle.write("".join(self._unsaved))
-                handle.flush()
-                os.fsync(handle.fileno())
+        kept = (f"; the file keeps its first {self._saved_ticks} ticks, a valid replay"
+                if self._started else "")
+        with writing(self.path, "replay", kept):
+            if not self._started:
+                clean_stale(self.path)
+                write_atomic(self.path, self.replay.header_line() + "".join(self._unsaved))
+                self._started = True
+            elif self._unsaved:
+                with open(self.path, "a", encoding="utf-8") as handle:
+                    handle.write("".join(self._unsaved))
+                    handle.flush()
+                    os.fsync(handle.fileno())
         self._unsaved = []
+        self._saved_ticks = self.ticks
 
 
 def save_replay(path: str | Path, replay: Replay) -> None:
