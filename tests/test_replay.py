@@ -248,7 +248,7 @@ def test_a_checkpoint_that_lies_about_the_score_fails_the_check(replay_file, tmp
 
 
 JSON = st.recursive(
-    st.none() | st.booleans() | st.integers() | st.floats(allow_nan=False)
+    st.none() | st.booleans() | st.integers() | st.floats()  # NaN and Infinity too
     | st.sampled_from([10**19, -(10**40), 2**63]) | st.text(max_size=12),
     lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=6), inner,
                                                                 max_size=4),
@@ -258,11 +258,16 @@ JSON = st.recursive(
 @st.composite
 def mutants(draw, objects: list) -> str:
     """A replay file with one structural change: a value anywhere replaced by any JSON
-    value, a key deleted, a line dropped, doubled or swapped, or the text cut or a byte
-    changed."""
+    value (NaN and Infinity among them), a key deleted or an unknown one added, a huge
+    container put in, a lab switch at a speed the config may not take (its speeds pushed
+    to their edge), a line dropped, doubled or swapped, blank lines put in, the whole
+    written as a pretty-printed version-1 object, or the text cut or a byte changed."""
     lines = json.loads(json.dumps(objects))
-    how = draw(st.sampled_from(["replace", "delete", "drop", "double", "swap", "cut", "byte"]))
+    how = draw(st.sampled_from(["replace", "delete", "drop", "double", "swap", "cut", "byte",
+                                "unknown", "huge", "lab", "blank", "pretty"]))
     index = draw(st.integers(0, len(lines) - 1))
+    if how in ("unknown", "huge", "lab", "pretty"):
+        return _grown(draw, lines, how, index)
     if how in ("replace", "delete"):
         parent, key = None, None
         node = lines[index]
@@ -285,12 +290,45 @@ def mutants(draw, objects: list) -> str:
         other = draw(st.integers(0, len(lines) - 1))
         lines[index], lines[other] = lines[other], lines[index]
     text = "".join(json.dumps(line) + "\n" for line in lines)
+    if how == "blank":
+        parts = text.split("\n")
+        at = draw(st.integers(0, len(parts) - 1))
+        text = "\n".join([*parts[:at], *[" " * draw(st.integers(0, 3))] * 2, *parts[at:]])
     if how == "cut":
         text = text[:draw(st.integers(0, len(text)))]
     elif how == "byte":
         at = draw(st.integers(0, len(text) - 1))
         text = text[:at] + chr(draw(st.integers(0, 127))) + text[at + 1:]
     return text
+
+
+def _grown(draw, lines: list, how: str, index: int) -> str:
+    """The mutations that add: an unknown key, a huge container, a lab switch at an edge
+    speed, or the file as one pretty-printed version-1 object."""
+    if how == "pretty":
+        header = dict(lines[0], version=1, ticks=lines[-1]["checkpoint"]["tick"],
+                      inputs=[run for line in lines[1:] for run in line["inputs"]],
+                      checkpoints=[line["checkpoint"] for line in lines[1:]])
+        return json.dumps(header, indent=draw(st.integers(0, 3))) + "\n"
+    if how == "lab" and len(lines) > 2:
+        at = draw(st.integers(1, 128))
+        lines[0]["config"]["speeds"]["shot"] = draw(st.sampled_from([1, 32, 128 // at, 128]))
+        tick = lines[index - 1]["checkpoint"]["tick"] if index > 1 else 0
+        lines[max(index, 1)]["lab"] = [[tick, {"speed": at}]]
+    elif how in ("unknown", "huge"):
+        node = lines[index]
+        while isinstance(node, dict) and draw(st.booleans()):
+            inner = [v for v in node.values() if isinstance(v, dict)]
+            if not inner:
+                break
+            node = draw(st.sampled_from(inner))
+        if isinstance(node, dict):
+            value = (draw(JSON) if how == "unknown" else
+                     draw(st.sampled_from([[0] * 200_000, {str(i): 0 for i in range(50_000)},
+                                           [{}] * 100_000, "x" * 1_000_000])))
+            node[draw(st.text(min_size=1, max_size=8)) if how == "unknown"
+                 else draw(st.sampled_from(list(node) or ["x"]))] = value
+    return "".join(json.dumps(line) + "\n" for line in lines)
 
 
 @settings(suppress_health_check=[HealthCheck.function_scoped_fixture])  # count: the profile's
