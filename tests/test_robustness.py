@@ -163,6 +163,19 @@ def test_an_internal_error_names_the_replay_being_checked(capsys, monkeypatch):
 SIGNALS = [(signal.SIGINT, 130, 1234), (signal.SIGTERM, 143, 2345), (signal.SIGHUP, 129, 777)]
 
 
+@pytest.fixture(autouse=True)
+def signals_not_ignored():
+    """Each test starts with the signals at Python's defaults, whoever started the suite (a
+    job in the background starts with SIGINT ignored, one under nohup with SIGHUP): the
+    program keeps an ignored signal ignored, so a test sending one would wait for nothing."""
+    defaults = {signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL,
+                signal.SIGHUP: signal.SIG_DFL}
+    previous = {signum: signal.signal(signum, handler) for signum, handler in defaults.items()}
+    yield
+    for signum, handler in previous.items():
+        signal.signal(signum, handler)
+
+
 @pytest.mark.parametrize("signum, code, at", SIGNALS, ids=lambda v: str(v))
 def test_a_signal_stops_a_recording_run_on_a_whole_tick_and_saves_it(
         tmp_path, capsys, monkeypatch, signum, code, at):
