@@ -410,7 +410,7 @@ def test_a_recording_stops_at_the_readers_limit_and_the_file_replays(tmp_path, c
 def test_recording_to_a_file_keeps_no_more_memory_late_than_early(tmp_path):
     """Python keeps freed tuples for reuse and imports a module or two at the first contact,
     so a flat recording still shows some growth; keeping every input run and checkpoint,
-    as the recorder did, adds about 500 KB over these 24,000 ticks."""
+    as the recorder did, added about 500 KB over these 12,000 ticks."""
     import tracemalloc
 
     from invaders.app.recording import Recorder
@@ -421,14 +421,14 @@ def test_recording_to_a_file_keeps_no_more_memory_late_than_early(tmp_path):
     recorder = Recorder(world, tmp_path / "game.json", save_every=600)
     tracemalloc.start()
     sizes = {}
-    for tick in range(1, 32_001):
+    for tick in range(1, 16_001):
         bits = pilot.actions(world) | (8 if tick % 3000 == 0 else 0)  # games end and start
         world.step(bits)
         recorder.tick(bits)
-        if tick in (8_000, 32_000):
+        if tick in (4_000, 16_000):
             sizes[tick] = tracemalloc.get_traced_memory()[0]
     tracemalloc.stop()
-    assert sizes[32_000] - sizes[8_000] < 200 * 1024, sizes
+    assert sizes[16_000] - sizes[4_000] < 200 * 1024, sizes
 
 
 def test_two_signals_a_moment_apart_still_end_on_a_whole_tick_with_the_first_ones_code(

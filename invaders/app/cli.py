@@ -192,6 +192,9 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     bench.add_argument("--big", action="store_true",
                        help="also time storms of 1,000 and 10,000 bodies: the grid, the numpy "
                             "broad phase, the automatic choice and pymunk")
+    bench.add_argument("--largest", type=_int_in("--largest", 1, 2000), metavar="N",
+                       help="section 5's largest group size, sprites a side (default 1,000; "
+                            "2,000 with --big)")
     bench.add_argument("--rounds", type=_int_in("--rounds", 3, 100), default=10,
                        help="interleaved rounds; figures are medians over them")
     bench.add_argument("--env", action="store_true",
@@ -352,7 +355,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
             raise UsageError("--ale needs ale-py: pip install -e '.[compare]'")
     try:
         return bench(ticks=args.ticks, seed=args.seed, rounds=args.rounds, ale=args.ale,
-                     big=args.big)
+                     big=args.big, largest=args.largest)
     except BenchFailure as err:
         print(f"invaders: bench: {err}", file=sys.stderr)
         return 1

@@ -438,6 +438,9 @@ def load(path: str | Path) -> Replay:
     _need(len(text) <= MAX_V1_BYTES or not _V1_MARK.search(text[:4096]),
           f"a version-1 replay may be at most {MAX_V1_BYTES:,} bytes (longer games are "
           "written in version 2)")
+    _need(len(lines[0]) <= max(MAX_HEADER_BYTES, min(len(text), MAX_V1_BYTES)),
+          f"line {numbers[0]} is {len(lines[0]):,} characters: a header is at most "
+          f"{MAX_HEADER_BYTES:,} (and a version-1 file {MAX_V1_BYTES:,})")
     try:
         first = _decode(lines[0], f"line {numbers[0]}")
     except ReplayError:

@@ -327,7 +327,7 @@ def big_scenes(rounds: int, goal) -> None:
 
 
 def bench(ticks: int = 3600, seed: int = 7, rounds: int = 10, ale: bool = False,
-          big: bool = False) -> int:
+          big: bool = False, largest: int | None = None) -> int:
     replays: list[Replay] = []
     _, _, frames = play_game(ticks, seed, DEFAULT_BROADPHASE, record=True, recorder=replays)
     prepared = prepare(frames)
@@ -450,5 +450,5 @@ def bench(ticks: int = 3600, seed: int = 7, rounds: int = 10, ale: bool = False,
         big_scenes(rounds, goal)
     from invaders.lab.bench_sprites import sprite_table
 
-    sprite_table(rounds, goal, big)
+    sprite_table(rounds, goal, big, largest)
     return 1 if missed_goals else 0

@@ -114,14 +114,16 @@ def _row(n: int, motion: str, name: str, collided: Callable | None, rounds: int
     return ratios
 
 
-def sprite_table(rounds: int, goal: Callable[..., None], big: bool = False) -> None:
+def sprite_table(rounds: int, goal: Callable[..., None], big: bool = False,
+                 largest: int | None = None) -> None:
     """Print the table and its goals: no row slower than pygame beyond its spread (some
     round at 1.0x or more), and with collide_mask at least 5x at 100 a side, 50x at 1,000
     (still and moving alike: the module keeps nothing between calls)."""
     print("5. pygame's groupcollide against ours (invaders.engine.collide), the same "
           "groups, calls taking turns: median (lowest..highest round)")
     slower = []  # the rows where no round had ours at pygame's speed or better
-    for n in (*SIZES, BIG_SIZE) if big else SIZES:
+    sizes = (*SIZES, BIG_SIZE) if big else SIZES
+    for n in (n for n in sizes if largest is None or n <= largest):
         for motion in ("still", "moving"):
             for name, collided in PREDICATES:
                 ratios = _row(n, motion, name, collided, rounds)
