@@ -399,6 +399,13 @@ def _decode(text: str, where: str) -> Any:
         raise ReplayError(f"{where}: invalid JSON: nested too deeply") from None
 
 
+def _first_line_fits(length: int, total: int, number: int) -> None:
+    """The first line is a header (16 KB at most) or a whole version-1 file (8 MB)."""
+    _need(length <= max(MAX_HEADER_BYTES, min(total, MAX_V1_BYTES)),
+          f"line {number} is {length:,} characters: a header is at most "
+          f"{MAX_HEADER_BYTES:,} (and a version-1 file {MAX_V1_BYTES:,})")
+
+
 def read_text(path: str | Path) -> str:
     """A replay file's text: only a regular file, only up to the size limit."""
     try:
@@ -419,6 +426,8 @@ def read_text(path: str | Path) -> str:
     except OSError as err:
         raise ReplayError(f"cannot read: {err.strerror}") from None
     _need(len(raw) <= MAX_FILE_BYTES, f"a replay may be at most {MAX_FILE_BYTES} bytes")
+    first = raw.find(b"\n")  # checked on the bytes: a line too long is never decoded
+    _first_line_fits(len(raw) if first < 0 else first, len(raw), 1)
     try:
         return raw.decode("utf-8")
     except UnicodeDecodeError:
@@ -438,9 +447,7 @@ def load(path: str | Path) -> Replay:
     _need(len(text) <= MAX_V1_BYTES or not _V1_MARK.search(text[:4096]),
           f"a version-1 replay may be at most {MAX_V1_BYTES:,} bytes (longer games are "
           "written in version 2)")
-    _need(len(lines[0]) <= max(MAX_HEADER_BYTES, min(len(text), MAX_V1_BYTES)),
-          f"line {numbers[0]} is {len(lines[0]):,} characters: a header is at most "
-          f"{MAX_HEADER_BYTES:,} (and a version-1 file {MAX_V1_BYTES:,})")
+    _first_line_fits(len(lines[0]), len(text), numbers[0])
     try:
         first = _decode(lines[0], f"line {numbers[0]}")
     except ReplayError:
