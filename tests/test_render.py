@@ -126,3 +126,26 @@ def test_the_overlay_text_is_legible_at_scale_1_and_its_lines_stay_off_the_hud()
     Renderer(1).draw(plain, world, overlay=False, report=None)
     for y in list(range(0, 31)) + list(range(241, 256)):  # the score bar and bottom line
         assert all(target.get_at((x, y)) == plain.get_at((x, y)) for x in range(224)), y
+
+
+def test_the_end_of_a_replay_reads_on_a_band_cleared_of_the_rack_behind_it():
+    """Its three lines are drawn where the rack is: behind them, only the letters."""
+    from invaders.game.world import World
+    from invaders.lab.picture import Picture
+
+    world = World(seed=1)
+    for _ in range(400):  # the rack drawn and marching
+        world.step(0)
+    target = pygame.Surface((224, 256))
+    lines = ["REPLAY ENDED", "CHECKPOINTS MATCHED", "ENTER PLAYS  ESC QUITS"]
+    Renderer(scale=1).draw(target, world, replay_verdict=lines[1])
+    letters = Picture()  # the same lines alone, on black
+    for i, line in enumerate(lines):
+        letters.text(line, (224 - 8 * len(line)) // 2, 88 + 16 * i)
+    letters.tint()
+    band = pygame.Rect(0, 84, 224, 48)
+    drawn, alone = target.subsurface(band), letters.screen.subsurface(band)
+    assert all(drawn.get_at((x, y)) == alone.get_at((x, y))
+               for x in range(band.w) for y in range(band.h))
+    rack_rows = {alien.top + dy for alien in world.rack.live_aliens() for dy in range(8)}
+    assert rack_rows & set(range(84, 132))  # there was rack to clear

@@ -64,14 +64,22 @@ class Renderer:
         picture = self.picture
         picture.draw(world, alpha)
         if paused:
-            picture.text("PAUSED", 88, 152)
+            self._message(["PAUSED"], 152)
         if replay_verdict is not None:
-            for i, line in enumerate(("REPLAY ENDED", replay_verdict, "ENTER PLAYS  ESC QUITS")):
-                picture.text(line, (SCREEN_W - 8 * len(line)) // 2, 88 + 16 * i)
+            self._message(["REPLAY ENDED", replay_verdict, "ENTER PLAYS  ESC QUITS"], 88)
         view = self._present(target)
         if overlay:
             self._draw_overlay(target, view, world, report, pairs)
         return view
+
+    def _message(self, lines: list[str], top: int) -> None:
+        """Lines centred from row `top`, 16 rows apart, on a band cleared across the
+        playfield (from 4 rows above the first to 4 below the last), so that they read
+        whatever is drawn behind them."""
+        band = pygame.Rect(0, top - 4, SCREEN_W, 16 * len(lines))
+        self.picture.screen.fill(BACKGROUND, band)
+        for i, line in enumerate(lines):
+            self.picture.text(line, (SCREEN_W - 8 * len(line)) // 2, top + 16 * i)
 
     def draw_card(self, target: pygame.Surface, world: World, texts: list[tuple[str, int, int]],
                   pictures: list[tuple[art.Art, int, int]]) -> None:
