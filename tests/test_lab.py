@@ -295,3 +295,25 @@ def test_the_labs_broad_phases_are_the_engines_and_the_cell_applies_where_it_is_
     assert BROADS == BROADPHASES and BROADS[0] == DEFAULT_BROADPHASE
     for name in BROADS:
         assert (make_broadphase(name, 48).cell == 48) == (name in CELLED), name
+
+
+def test_the_panels_counts_add_up_while_contacts_are_still_touching():
+    """true = on time + late + missed on every frame: a contact that has begun but not
+    ended is shown as touching now, not as a true one yet unjudged (it once showed
+    'true 1, on time 0' with nothing missed, late or false)."""
+    from invaders.app.labpanel import panel_lines
+
+    world = World(seed=4)
+    session, clock = windowed(world, pilot=Autopilot(4), lab=Choice())
+    seen_touching = False
+    for _ in range(900):
+        clock.now += 1 / 60
+        session.frame(0)
+        lines = [text for text, _ in panel_lines(session.lab)]
+        head = next(line for line in lines if line.startswith("true")).split()
+        true, on_time = int(head[1]), int(head[4])
+        count = {line.split()[0]: int(line.split()[1]) for line in lines
+                 if line.split()[0] in ("missed", "late")}
+        assert true == on_time + count["missed"] + count["late"]
+        seen_touching |= "now" in head
+    assert seen_touching and true > 5

@@ -113,8 +113,14 @@ def panel_lines(control: LabControl) -> list[tuple[str, tuple[int, int, int]]]:
                   DIM))
     score = d.shadow.score if d.shadow is not None else None
     if score is not None:
-        rate = f"{score.errors / score.true:.3f}" if score.true else "-"
-        lines += [(f"true {score.true:<6} on time {score.on_time}", TEXT),
+        # A contact is counted true when it begins and judged when it ends: the counts
+        # shown are the judged ones (true = on time + late + missed, always), with those
+        # still touching beside them.
+        judged = score.on_time + score.late + score.missed
+        still = score.true - judged
+        rate = f"{score.errors / judged:.3f}" if judged else "-"
+        lines += [(f"true {judged:<6} on time {score.on_time}"
+                   + (f"  +{still} now" if still else ""), TEXT),
                   (f"missed {score.missed}", MARK_COLOURS["missed"]),
                   (f"late   {score.late}", MARK_COLOURS["late"]),
                   (f"false  {score.false}", MARK_COLOURS["false"]),
