@@ -53,12 +53,13 @@ def ale_env(obs_type: str) -> Any:
                           repeat_action_probability=0.25)
 
 
-def env_table(rounds: int) -> int:
+def env_table(rounds: int, section: bool = False) -> int:
     """Print ours against ALE per observation type with the goals as ratios (ours alone,
-    said in one line, without ale-py); 1 if a goal is missed."""
-    print("invaders bench --env: the Gymnasium environment against ALE's "
-          f"(ALE/SpaceInvaders-v5), frame skip 4, sticky actions 0.25, {rounds} interleaved "
-          "rounds: steps a second, median (lowest..highest round)")
+    said in one line, without ale-py); 1 if a goal is missed. `section`: as section 6 of
+    `bench --ale`, rather than a run of its own."""
+    heading = "6." if section else f"invaders bench --env ({rounds} interleaved rounds):"
+    print(f"{heading} the Gymnasium environment against ALE's (ALE/SpaceInvaders-v5), frame "
+          "skip 4, sticky actions 0.25: steps a second, median (lowest..highest round)")
     with_ale = available()
     if not with_ale:
         print("   ALE skipped: install the compare extra (ale-py) to time it beside ours")
