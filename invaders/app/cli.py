@@ -188,7 +188,8 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     bench.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=7)
     bench.add_argument("--ale", action="store_true",
                        help="also time the Arcade Learning Environment's emulated Space "
-                            "Invaders (needs the compare extra: ale-py)")
+                            "Invaders, and the Gymnasium environment against ALE's (needs "
+                            "the compare extra: ale-py)")
     bench.add_argument("--big", action="store_true",
                        help="also time storms of 1,000 and 10,000 bodies: the grid, the numpy "
                             "broad phase, the automatic choice and pymunk")
