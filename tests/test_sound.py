@@ -3,11 +3,13 @@ no audio device means silence and no complaint; headless runs never open audio."
 
 from __future__ import annotations
 
+import itertools
 import subprocess
 import sys
 
 import numpy as np
 import pygame
+import pytest
 
 from invaders.app.sound import RATE, SoundBoard, synthesize
 from invaders.game.events import Event
@@ -25,26 +27,58 @@ def test_every_sound_is_there_audible_and_of_a_sane_length():
     assert len({waves[f"march{i}"].tobytes() for i in range(4)}) == 4  # four notes
 
 
-def _notes_in(world: World, board: SoundBoard, ticks: int) -> int:
-    before = board.notes_played
+def _note_ticks(world: World, board: SoundBoard, ticks: int, at=None) -> list[int]:
+    """The ticks on which a march note played; `at` (tick -> action) acts on the world."""
+    played = []
     for _ in range(ticks):
+        if at is not None:
+            at(world)
+        before = board.notes_played
         report = world.step(0)
         board.react(report.events, world)
-        world.alien_fire_timer = -1  # nothing falls: the rack alone sets the tempo
-    return board.notes_played - before
+        world.alien_fire_timer = -1  # nothing falls: the rack alone is in play
+        if board.notes_played > before:
+            played.append(world.tick)
+    return played
 
 
-def test_the_march_tempo_follows_the_number_of_live_aliens():
+def _gaps(ticks: list[int]) -> set[int]:
+    return {b - a for a, b in itertools.pairwise(ticks)}
+
+
+@pytest.mark.parametrize("alive, frames", [(55, 52), (43, 46), (11, 19), (8, 16), (1, 5)])
+def test_the_march_is_timed_by_the_roms_table_of_live_aliens(alive, frames):
+    """The ROM's fleet delays (1A11/1A21): with N live aliens, the listed frames between
+    two notes, whatever the rack's own pace (N ticks a step)."""
     board = SoundBoard(muted=True)  # muted: counted, not heard
-    full = World(seed=0)
-    _notes_in(full, board, 60)  # the rack is drawn
-    many = _notes_in(full, board, 1100)
-    few = World(seed=0)
-    _notes_in(few, board, 60)
-    for alien in few.rack.live_aliens()[11:]:
-        few.rack.kill(alien, few.store)
-    fewer = _notes_in(few, board, 1100)
-    assert many == 1100 // 55 and fewer == 1100 // 11  # one note per step of the rack
+    world = World(seed=0)
+    for alien in world.rack.aliens[alive:]:
+        world.rack.kill(alien, world.store)
+    assert world.rack.live == alive
+    assert _gaps(_note_ticks(world, board, 12 * frames)[1:]) == {frames}
+
+
+def test_the_march_runs_on_through_an_aliens_explosion():
+    """An alien killed 7 frames before a note: the rack stands still while it explodes, and
+    the note comes on time all the same (it waited for the rack's step before)."""
+    board = SoundBoard(muted=True)
+    world = World(seed=0)
+    first = _note_ticks(world, board, 200)[-1]  # a note, then 52 frames to the next
+    kill_at = first + 52 - 7
+
+    def kill(w: World) -> None:
+        if w.tick == kill_at:
+            w.kill_alien(next(a for a in w.rack.aliens if a is not None and a.alive))
+
+    exploding = []
+
+    def kill_then_watch(w: World) -> None:
+        kill(w)
+        exploding.append((w.tick, w.alien_exploding))
+
+    played = _note_ticks(world, board, 60, kill_then_watch)
+    assert played[0] == first + 52
+    assert dict(exploding)[first + 51]  # the tick of that note began mid-explosion
 
 
 def test_without_an_audio_device_the_game_runs_silent(monkeypatch):

@@ -1,10 +1,12 @@
 """The cabinet's sounds, made with numpy when the window opens (no sound files), and played
 from each tick's events: the simulation stays silent, the application listens to it.
 
-The four-note march plays one note per step of the rack, so its tempo follows the rack's
-speed (N live aliens take N ticks a step); the shot, an alien's explosion, the cannon's, the
-saucer's warble while it flies and its hit, and the extra ship's tone. Without an audio
-device the game simply runs silent.
+The four-note march is timed as the original times it, by its own counter rather than by the
+rack's steps (1740-1775): the frames between two notes come from the number of live aliens
+(FLEET_DELAYS), and the counter runs on through an alien's explosion (when the rack stands
+still). Then the shot, an alien's explosion, the cannon's, the saucer's warble while it
+flies and its hit, and the extra ship's tone. Without an audio device the game simply runs
+silent.
 """
 
 from __future__ import annotations
@@ -12,10 +14,21 @@ from __future__ import annotations
 import numpy as np
 import pygame
 
+from invaders.game.entities import CannonState
 from invaders.game.events import Event
+from invaders.game.world import Phase
 
 RATE = 22050
 MARCH = (98.0, 87.0, 78.0, 73.0)  # the four descending bass notes, in Hz
+# The ROM's two 16-entry tables (1A11, 1A21): with at least this many live aliens, this many
+# frames between two notes of the march.
+FLEET_DELAYS = ((50, 52), (43, 46), (36, 39), (28, 34), (22, 28), (17, 24), (13, 21),
+                (10, 19), (8, 16), (7, 14), (6, 13), (5, 12), (4, 11), (3, 9), (2, 7), (1, 5))
+
+
+def fleet_delay(live: int) -> int:
+    """Frames between two notes of the march with `live` aliens left."""
+    return next((frames for least, frames in FLEET_DELAYS if live >= least), FLEET_DELAYS[-1][1])
 
 
 def _time(seconds: float) -> np.ndarray:
@@ -33,6 +46,14 @@ def _noise(seconds: float, seed: int) -> np.ndarray:
 
 def _fade(wave: np.ndarray, power: float = 1.0) -> np.ndarray:
     return wave * np.linspace(1.0, 0.0, wave.size) ** power
+
+
+def _marching(world) -> bool:
+    """Whether the fleet sounds: a wave in play with aliens left and the cannon not blowing
+    up. UNCERTAIN: our notes do not say whether the original's counter also runs while the
+    cannon explodes (the rack stands still then); here it waits, as the rack does."""
+    return (world.phase is Phase.PLAYING and world.rack.live > 0
+            and world.cannon.state is not CannonState.EXPLODING)
 
 
 def synthesize() -> dict[str, np.ndarray]:
@@ -61,7 +82,7 @@ class SoundBoard:
         self.muted = muted
         self.sounds: dict[str, pygame.mixer.Sound] = {}
         self.notes_played = 0  # march notes so far (what the tempo test counts)
-        self._rack: tuple[int, int] | None = None
+        self._march_timer = 0  # frames to the next note
         self._saucer_channel: pygame.mixer.Channel | None = None
         try:
             pygame.mixer.init(RATE, -16, 1, 512)
@@ -82,13 +103,14 @@ class SoundBoard:
         return sound.play(loops=loops)
 
     def react(self, events: tuple[Event, ...], world) -> None:
-        """After a tick: its events' sounds, a march note if the rack stepped, the saucer's
-        warble while it flies."""
-        rack = (world.rack.ref_x, world.rack.ref_top)
-        if self._rack is not None and rack != self._rack:
-            self._play(f"march{self.notes_played % 4}")
-            self.notes_played += 1
-        self._rack = rack
+        """After a tick: its events' sounds, a march note when the fleet's counter runs out,
+        the saucer's warble while it flies."""
+        if _marching(world):
+            self._march_timer -= 1
+            if self._march_timer <= 0:
+                self._play(f"march{self.notes_played % 4}")
+                self.notes_played += 1
+                self._march_timer = fleet_delay(world.rack.live)
         for event in events:
             name = ON_EVENT.get(event)
             if name is not None:
