@@ -149,3 +149,24 @@ def test_the_end_of_a_replay_reads_on_a_band_cleared_of_the_rack_behind_it():
                for x in range(band.w) for y in range(band.h))
     rack_rows = {alien.top + dy for alien in world.rack.live_aliens() for dy in range(8)}
     assert rack_rows & set(range(84, 132))  # there was rack to clear
+
+
+def test_a_kept_line_of_text_lights_exactly_its_glyphs_pixels_first_time_and_again():
+    """Lines of text are kept by their message: drawn from the cache, again after the cache
+    is emptied, and over pixels already lit, they light exactly the glyphs' own pixels."""
+    from invaders.game.art import lit_cells
+    from invaders.lab import font, picture
+
+    pic = picture.Picture()
+    message, x, y = "SCORE<1> 0420", 9, 20
+    expected = {(x + i * font.ADVANCE + cx, y + cy) for i, ch in enumerate(message)
+                for cx, cy in lit_cells(font.glyph(ch))}
+    for attempt in range(3):
+        pic.screen.fill((0, 0, 0))
+        pic.screen.set_at((x + 1, y + 7), (255, 255, 255))  # lit before: stays lit
+        if attempt == 2:
+            pic._texts.clear()
+        pic.text(message, x, y)
+        lit = {(px, py) for px in range(224) for py in range(16, 32)
+               if pic.screen.get_at((px, py))[:3] == (255, 255, 255)}
+        assert lit == expected | {(x + 1, y + 7)}

@@ -53,7 +53,9 @@ class Picture:
         return surface
 
     def text(self, message: str, x: int, y: int) -> None:
-        """A line of text at (x, y), its glyphs drawn together once and kept."""
+        """A line of text at (x, y), its glyphs drawn together once and kept. Kept by its
+        message alone: a glyph's picture never changes (the font is constant data), and a
+        line is drawn over what is there, its unlit pixels keyed out, as glyph by glyph."""
         line = self._texts.get(message)
         if line is None:
             if len(self._texts) >= TEXTS_KEPT:
