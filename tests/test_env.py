@@ -14,9 +14,10 @@ from gymnasium.utils.env_checker import check_env
 import invaders.env  # noqa: F401  (registers the id)
 from invaders.app.cli import main
 from invaders.app.render import Renderer
-from invaders.env.observations import STATE_SIZE, observe_state
+from invaders.env.observations import STATE_FIELDS, STATE_SIZE
 from invaders.env.space_invaders import MINIMAL_ACTIONS, SpaceInvadersEnv
 from invaders.game.actions import Action
+from invaders.game.entities import CannonState
 from invaders.game.replay import load
 from invaders.game.world import Phase
 from invaders.lab.autopilot import Autopilot
@@ -77,19 +78,42 @@ def test_pixel_observations_are_the_windows_picture_pixel_for_pixel():
         assert np.array_equal(grey_seen, luma.astype(np.uint8))
 
 
-def test_the_state_vector_reads_the_worlds_objects():
-    env = SpaceInvadersEnv(obs_type="state")
-    _play(env, 2, 200)
-    world = env.world
-    state = observe_state(world, np.zeros(STATE_SIZE, np.float32))
-    assert state.shape == (188,)
-    assert state[0] == world.cannon.x
-    aliens = state[14:179].reshape(55, 3)
-    assert int(aliens[:, 0].sum()) == len(world.rack.live_aliens())
-    first = world.rack.live_aliens()[0]
-    assert tuple(aliens[first.index]) == (1.0, first.x, first.top)
-    assert list(state[181:185]) == [b.mask.count() for b in world.bunkers]
-    assert list(state[185:]) == [world.score, world.ships, world.wave]
+def _expected_state(world) -> dict[str, list[float]]:
+    """Each field of the state vector as its documentation says, read from the world."""
+    def thing(body):
+        return [1.0, body.x, body.y] if body is not None else [0.0, 0.0, 0.0]
+
+    aliens = [v for a in world.rack.aliens
+              for v in ([1.0, a.x, a.top] if a is not None and a.alive else [0.0, 0.0, 0.0])]
+    flying = world.saucer.saucer
+    return {"cannon": [world.cannon.x, float(world.cannon.state is CannonState.ACTIVE)],
+            "shot": thing(world.shot), "bombs": [v for s in world.slots for v in thing(s.bomb)],
+            "aliens": aliens,
+            "saucer": [1.0, flying.x] if flying is not None else [0.0, 0.0],
+            "shields": [b.mask.count() for b in world.bunkers],
+            "game": [world.score, max(world.ships, 0), world.wave]}
+
+
+def test_the_state_vector_reads_the_worlds_objects_field_by_field():
+    env = SpaceInvadersEnv(obs_type="state", repeat_action_probability=0.0)
+    pilot = Autopilot(4, "expert")
+    state, _ = env.reset(seed=4)
+    seen = set()
+    for _ in range(1500):
+        world = env.world
+        at = 0
+        for name, count, _ in STATE_FIELDS:
+            assert list(state[at:at + count]) == _expected_state(world)[name], name
+            at += count
+        seen |= {name for name, present in (("shot", world.shot), ("saucer", world.saucer.saucer),
+                                             ("bomb", any(s.bomb for s in world.slots)))
+                 if present}
+        bits = pilot.actions(world)
+        action = MINIMAL_ACTIONS.index(bits & (Action.FIRE | Action.LEFT | Action.RIGHT))
+        state, _, terminated, truncated, _ = env.step(action)
+        if terminated or truncated:
+            break
+    assert at == STATE_SIZE and seen == {"shot", "saucer", "bomb"}
 
 
 def test_the_same_seed_and_actions_give_the_same_episode_and_other_seeds_another():

@@ -14,7 +14,7 @@ import numpy as np
 import pygame
 
 from invaders.game.config import SCREEN_H, SCREEN_W
-from invaders.game.entities import CannonState
+from invaders.game.entities import FOOTPRINT_ABOVE, CannonState
 from invaders.game.world import World
 from invaders.lab.picture import Picture
 
@@ -69,17 +69,21 @@ NONE3 = (0.0, 0.0, 0.0)
 
 
 def observe_state(world: World, out: np.ndarray) -> np.ndarray:
-    """The game's objects as numbers, written into `out` (float32, STATE_SIZE)."""
+    """The game's objects as numbers, written into `out` (float32, STATE_SIZE): one list
+    built in field order, then one copy into the array."""
     cannon, shot, flying = world.cannon, world.shot, world.saucer.saucer
-    bombs = [(1.0, s.bomb.x, s.bomb.y) if s.bomb is not None else NONE3 for s in world.slots]
-    aliens = [(1.0, a.x, a.top) if a is not None and a.alive else NONE3
-              for a in world.rack.aliens]
-    out[:] = (cannon.x, 1.0 if cannon.state is ACTIVE else 0.0,
-              *((1.0, shot.x, shot.y) if shot is not None else NONE3),
-              *(v for bomb in bombs for v in bomb), *(v for alien in aliens for v in alien),
-              *((1.0, flying.x) if flying is not None else (0.0, 0.0)),
-              *(bunker.mask.count() for bunker in world.bunkers),
-              world.score, max(world.ships, 0), world.wave)
+    values = [cannon.x, 1.0 if cannon.state is ACTIVE else 0.0]
+    values += (1.0, shot.x, shot.y) if shot is not None else NONE3
+    for slot in world.slots:
+        bomb = slot.bomb
+        values += (1.0, bomb.x, bomb.y) if bomb is not None else NONE3
+    for alien in world.rack.aliens:  # (`top` read as y + FOOTPRINT_ABOVE: 55 a step)
+        values += (1.0, alien.x, alien.y + FOOTPRINT_ABOVE) if (
+            alien is not None and alien.alive) else NONE3
+    values += (1.0, flying.x) if flying is not None else (0.0, 0.0)
+    values += [bunker.mask.count() for bunker in world.bunkers]
+    values += (world.score, max(world.ships, 0), world.wave)
+    out[:] = values
     return out
 
 
