@@ -12,7 +12,7 @@ from invaders.game.config import DEFAULT_CONFIG
 from invaders.game.entities import Bomb, BombType, CannonState, Shot
 from invaders.game.events import Event
 from invaders.game.kinds import Kind
-from invaders.game.saucer import launch, score_for
+from invaders.game.saucer import SIDE_BITS, from_left_after, launch, score_for
 from invaders.game.world import Phase, World
 from invaders.lab.autopilot import Autopilot
 from tests.helpers import active_world, step_until
@@ -155,7 +155,8 @@ def test_in_a_game_no_bomb_fires_before_the_others_made_r_steps():
         before = [(s.busy, s.steps) for s in world.slots]
         report = world.step(0)
         if Event.BOMB_FIRED in report.events:
-            fired = [i for i, s in enumerate(world.slots) if s.bomb and s.steps == 0]
+            fired = [i for i, s in enumerate(world.slots)
+                     if s.bomb and s.steps == bombs.STEPS_AT_LAUNCH]
             need = DEFAULT_CONFIG.reload_steps_for(world.score)
             for i, (busy, steps) in enumerate(before):
                 if i not in fired and busy:
@@ -258,6 +259,58 @@ def test_the_aimed_bomb_drops_from_the_edge_column_when_the_cannon_is_beyond_the
     assert bombs.choose_column(slot, world.config, cannon_x + 8, rack) == column
 
 
+def _rom_column(centre: int, ref_x: int) -> int:
+    """Cnt16s as the listing reads, one byte at a time (a check of `aimed_column`)."""
+    a, h, c = (ref_x + 32) % 256, (centre + 32) % 256, 0
+    if a >= h:
+        c, a = c + 1, (a + 16) % 256
+        while a >= 128:
+            c, a = c + 1, (a + 16) % 256
+    while a < h:
+        c, a = c + 1, (a + 16) % 256
+    return (c if c < 12 else 11) - 1
+
+
+def test_the_aimed_column_takes_the_left_one_when_the_centre_is_on_a_boundary():
+    # The rack at its start (ref x 24): a centre at 24 + 16k is column k-1, one px on is k.
+    for k in range(1, 11):
+        assert bombs.aimed_column(24 + 16 * k, 24, 16, 11) == k - 1
+        assert bombs.aimed_column(24 + 16 * k + 1, 24, 16, 11) == k
+    assert bombs.aimed_column(24 + 16 * 11, 24, 16, 11) == 10  # clamped
+
+
+@pytest.mark.parametrize("ref_x, centre, column", [
+    (79, 60, 0),    # the centre left of the reference: one cell makes its byte (127) positive
+    (80, 60, 10),   # from x 80 (byte 112) the cells run past 255 and count 16 too many
+    (90, 40, 10),
+    (-40, 121, 10),  # far left (byte 248): the wrap adds real cells, the count is right
+    (-88, 193, 1),  # byte 200 is below the centre's 225: two cells reach it, column 1
+])
+def test_the_aimed_column_wraps_in_a_byte_as_the_roms_does(ref_x, centre, column):
+    assert bombs.aimed_column(centre, ref_x, 16, 11) == _rom_column(centre, ref_x)
+    assert bombs.aimed_column(centre, ref_x, 16, 11) == column
+
+
+def test_the_aimed_column_is_the_roms_for_every_place_of_cannon_and_rack():
+    for ref_x in range(-160, 200):
+        for centre in range(G.cannon_min_x + 8, G.cannon_max_x + 9):
+            assert bombs.aimed_column(centre, ref_x, 16, 11) == _rom_column(centre, ref_x)
+
+
+def test_a_bomb_counts_its_launch_as_its_first_step():
+    world = active_world()
+    slot = world.slots[BombType.PLUNGER]
+    col = next(c for c in range(11) if world.rack.lowest_in_column(c) is not None)
+    bomb = bombs.spawn(slot, world.rack, col, world.store, G.bomb_drop_offset)
+    assert bomb is not None and slot.steps == 1
+    other = world.slots[BombType.ROLLING]
+    for _ in range(47):  # 1 + 47 = 48 steps: not more than R = 48 yet
+        bombs.advance(slot, 4, world.store)
+    assert not bombs.reload_ready(world.slots, other, 48)
+    bombs.advance(slot, 4, world.store)
+    assert bombs.reload_ready(world.slots, other, 48)
+
+
 def test_the_rolling_bomb_skips_an_attempt_after_each_of_its_bombs():
     world = active_world()
     slot = world.slots[BombType.ROLLING]
@@ -287,6 +340,40 @@ def test_the_first_saucer_of_a_wave_starts_at_the_left_moving_right():
     assert (ship.x, ship.dx) == (G.saucer_start_left, DEFAULT_CONFIG.speeds.saucer)
 
 
+def _clear_the_wave_with_a_bomb_over_the_cannon(ships: int) -> World:
+    """The wave cleared, the pause begun, and a bomb about to hit the cannon in it."""
+    world = active_world()
+    _quiet(world)
+    world.ships = ships
+    for alien in list(world.rack.live_aliens()):
+        world.rack.kill(alien, world.store)
+    step_until(world, lambda r: Event.WAVE_CLEARED in r.events, limit=5)
+    cannon = world.cannon
+    bomb = Bomb(world.store.new_id(), BombType.PLUNGER, cannon.x + 7, cannon.y - 12)
+    world.store.add(bomb)
+    world.slots[BombType.PLUNGER].bomb = bomb
+    return world
+
+
+def test_a_cannon_hit_in_the_pause_after_a_wave_costs_its_ship_before_the_next_wave():
+    world = _clear_the_wave_with_a_bomb_over_the_cannon(ships=3)
+    hit = step_until(world, lambda r: Event.CANNON_HIT in r.events, limit=20)
+    assert world.phase is Phase.WAVE_END and world.phase_timer > 0
+    ticks = hit.tick
+    lost = step_until(world, lambda r: Event.SHIP_LOST in r.events, limit=200)
+    assert lost.tick - ticks == DEFAULT_CONFIG.timing.cannon_death  # the explosion's end
+    # the pause (48 ticks) ended before the explosion (60): the wave starts as it ends
+    assert Event.WAVE_STARTED in lost.events and world.wave == 2 and world.ships == 2
+
+
+def test_the_last_ship_hit_in_the_pause_after_a_wave_ends_the_game():
+    world = _clear_the_wave_with_a_bomb_over_the_cannon(ships=1)
+    step_until(world, lambda r: Event.CANNON_HIT in r.events, limit=20)
+    over = step_until(world, lambda r: Event.GAME_OVER in r.events, limit=200)
+    assert Event.WAVE_STARTED not in over.events and world.phase is Phase.GAME_OVER
+    assert world.wave == 1 and world.ships == 0
+
+
 def test_the_cannon_and_bombs_keep_running_in_the_pause_after_a_cleared_wave():
     world = active_world()
     _quiet(world)
@@ -307,21 +394,54 @@ def saucer_launch(world: World):
     return launch(world.saucer, world.store, world.config)
 
 
-def test_the_saucers_side_follows_the_rom_sequence_whatever_the_seed():
-    from invaders.game.saucer import from_left_after
+def _remove_a_shot(world: World) -> None:
+    world.shot = Shot(world.store.new_id(), 100, 150)
+    world.store.add(world.shot)
+    world.remove_shot()
 
-    sides = "".join("0" if from_left_after(n) else "1" for n in range(16))
-    assert sides == "0101110101000110"
+
+def test_the_saucers_side_is_bit_0_of_the_rom_bytes_at_0800_by_shot_count():
+    # The listing's bytes at 0800-0805 are the opcodes AF 32 C1 20 CD CF: bit 0 of each.
+    assert SIDE_BITS[:6] == "".join(str(b & 1) for b in (0xAF, 0x32, 0xC1, 0x20, 0xCD, 0xCF))
+    assert len(SIDE_BITS) == 256 and set(SIDE_BITS) == {"0", "1"}
+    # One byte of count: the 256th shot reads 0x0800 again, the 257th 0x0801.
+    assert [from_left_after(n) for n in (0, 1, 256, 257)] == [True, False, True, False]
     for seed in (0, 1, 99):
         world = active_world(seed)
         world.shot = None
         sequence = []
-        for _ in range(5):
-            world.shot = Shot(world.store.new_id(), 100, 150)
-            world.store.add(world.shot)
-            world.remove_shot()
+        for _ in range(300):
+            _remove_a_shot(world)
             sequence.append(world.saucer.from_left)
-        assert sequence == [from_left_after(n) for n in range(1, 6)]
+        assert sequence == [SIDE_BITS[n % 256] == "1" for n in range(1, 301)]
+
+
+def test_after_each_saucer_the_side_is_the_left_until_a_shot_is_counted():
+    world = active_world()
+    _quiet(world)
+    _remove_a_shot(world)
+    assert not world.saucer.from_left  # one shot: bit 1 is 0, the right
+    ship = saucer_launch(world)
+    assert ship.dx < 0
+    _remove_a_shot(world)
+    _remove_a_shot(world)  # (bit 3 is 0: would be the right; not read while it flies)
+    assert not world.saucer.from_left
+    step_until(world, lambda r: world.saucer.saucer is None, limit=400)
+    assert world.saucer.from_left  # flown out: the left again
+    _remove_a_shot(world)
+    assert world.saucer.from_left is (SIDE_BITS[4] == "1")
+
+
+def test_a_shot_counted_while_a_hit_saucer_shows_does_not_turn_the_side():
+    world = active_world()
+    _quiet(world)
+    _remove_a_shot(world)
+    saucer_launch(world)
+    world.hit_saucer()
+    _remove_a_shot(world)  # the count is 2 (bit 2 is 1) but the hit still shows
+    assert world.saucer.hit_steps > 0 and not world.saucer.from_left
+    step_until(world, lambda r: world.saucer.hit_steps == 0, limit=400)
+    assert world.saucer.from_left
 
 
 def test_a_wave_starts_on_an_empty_field_drawn_one_alien_a_tick_and_marches_at_once():

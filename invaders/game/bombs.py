@@ -9,6 +9,8 @@ from invaders.game.config import GameConfig
 from invaders.game.entities import BOMB_MASKS, Bomb, BombType
 from invaders.game.rack import Rack
 
+STEPS_AT_LAUNCH = 1  # the launch counts as the bomb's first step (05BF)
+
 
 @dataclass
 class BombSlot:
@@ -55,14 +57,41 @@ def choose_column(slot: BombSlot, config: GameConfig, cannon_centre: int, rack: 
     """The 0-based column this attempt fires from, or None; advances the table cycles."""
     rules = config.rules
     if slot.btype is BombType.ROLLING:
-        # The aimed column is clamped on both sides (0625-062C): with the cannon beyond
-        # either edge of the rack the bomb still drops from the edge column.
-        col = (cannon_centre - rack.ref_x) // config.geometry.cell
-        return min(max(col, 0), config.geometry.cols - 1)
+        return aimed_column(cannon_centre, rack.ref_x, config.geometry.cell,
+                            config.geometry.cols)
     table = rules.plunger_columns if slot.btype is BombType.PLUNGER else rules.squiggly_columns
     col = table[slot.table_index] - 1
     slot.table_index = (slot.table_index + 1) % len(table)
     return col
+
+
+XR = 0x20  # the ROM's x coordinates (Xr) are the screen's plus 32, kept in one byte
+
+
+def aimed_column(cannon_centre: int, ref_x: int, cell: int, cols: int) -> int:
+    """The rolling bomb's column, counted as the ROM counts it, in bytes (Cnt16s and
+    WrapRef, 1554-1596; the clamp at 0625): cells of `cell` px from the reference alien
+    until past the cannon's centre, so a centre exactly on a boundary takes the column to
+    its left. A reference at or beyond the centre first has cells added until its byte
+    is below 128, which is one cell when it is left of x 80 and on screen, and otherwise
+    wraps through 256 and counts too many (once edge columns are cleared the reference
+    alien can be far outside the rack's lit part). Counts past the last column clamp to it.
+    """
+    target = (cannon_centre + XR) & 0xFF
+    ref = (ref_x + XR) & 0xFF
+    count = 0
+    if ref >= target:
+        while True:  # WrapRef: "until the sign bit is clear"
+            count += 1
+            ref = (ref + cell) & 0xFF
+            if ref < 0x80:
+                break
+    for _ in range(256 // max(cell, 1)):  # (the ROM would loop forever past 255)
+        if ref >= target:
+            break
+        ref = (ref + cell) & 0xFF
+        count += 1
+    return min(count, cols) - 1
 
 
 def spawn(slot: BombSlot, rack: Rack, col: int, store: BodyStore, drop: tuple[int, ...]
@@ -75,7 +104,7 @@ def spawn(slot: BombSlot, rack: Rack, col: int, store: BodyStore, drop: tuple[in
     bomb = Bomb(store.new_id(), slot.btype, shooter.x + drop[0], shooter.top + drop[1])
     store.add(bomb)
     slot.bomb = bomb
-    slot.steps = 0
+    slot.steps = STEPS_AT_LAUNCH
     return bomb
 
 

@@ -8,15 +8,18 @@ from invaders.engine.store import BodyStore
 from invaders.game.config import GameConfig
 from invaders.game.entities import Saucer
 
-# Bit 0 of the ROM byte at 0x0800 + the shot count picks the side the next saucer enters from
-# (14.9): 0 the left, 1 the right, the same every game. UNCERTAIN (0800): our notes give the
-# first 16 bits of the sequence; later counts repeat them.
-SIDE_BITS = "0101110101000110"
+# Bit 0 of the ROM bytes at 0x0800..0x08FF (opcodes that happen to be there), read at
+# 0x0800 + the shot count's low byte: 1 the saucer enters from the left, 0 from the right
+# (0462-046B), the same sequence every game.
+SIDE_BITS = ("1010111010100011011111011100100100101111101000101110111110010111"
+             "0010001001111010011000010011000111101010011110111110010000010101"
+             "1000000101001111101001100101001110100000000010000001011111100010"
+             "1010101010111011010010110000100100010001010100110010111011101011")
 
 
 def from_left_after(shots: int) -> bool:
-    """Whether the saucer enters from the left once `shots` shots have finished."""
-    return SIDE_BITS[shots % len(SIDE_BITS)] == "0"
+    """Whether the next saucer enters from the left once `shots` shots have finished."""
+    return SIDE_BITS[shots % len(SIDE_BITS)] == "1"
 
 
 @dataclass
@@ -29,7 +32,7 @@ class SaucerState:
     hit_steps: int = 0  # > 0 while the explosion, then the score, is shown
     hit_x: int = 0
     hit_score: int = 0
-    from_left: bool = True  # before any shot has finished, it starts at the left (x 9)
+    from_left: bool = True  # before any shot has finished, and after each saucer: the left
 
     @property
     def busy(self) -> bool:
@@ -68,6 +71,7 @@ def fly(state: SaucerState, store: BodyStore, config: GameConfig) -> None:
     if x < g.saucer_exit_left or x >= g.saucer_exit_right:
         store.remove(saucer)
         state.saucer = None
+        state.from_left = True  # the saucer's object is set afresh (06F9-0704)
         return
     store.move(saucer, x, saucer.y)
 

@@ -178,10 +178,13 @@ class World:
             # keep running (0A3C); nothing new is fired from an empty rack.
             self._move_shot()
             self._move_cannon(actions, fire_pressed)
-            self._projectile_turn()
-            self.phase_timer -= 1
-            if self.phase_timer <= 0:
-                self._start_wave(self.wave + 1)
+            if self.phase is WAVE_END:  # (not if the last ship was lost just now)
+                self._projectile_turn()
+                self.phase_timer -= 1
+                # A cannon hit in the pause, or on the tick of the last kill, explodes to
+                # the end and costs its ship before the next wave starts (0A3C-0A58).
+                if self.phase_timer <= 0 and self.cannon.state is not EXPLODING:
+                    self._start_wave(self.wave + 1)
         elif self.phase is GAME_OVER:
             self.phase_timer -= 1
             if self.phase_timer <= 0 and actions & START:
@@ -343,6 +346,8 @@ class World:
             if state.hit_steps == self.config.timing.saucer_score_at:
                 self.add_score(state.hit_score)
                 self.events.append(Event.SAUCER_SCORED)
+            if state.hit_steps == 0:  # the saucer's object is set afresh (06F9-0704)
+                state.from_left = True
         elif state.saucer is not None:
             saucer.fly(state, self.store, self.config)
 
@@ -377,7 +382,9 @@ class World:
         self.store.remove(self.shot)
         self.shot = None
         self.shots_removed += 1
-        if self.saucer.saucer is None:
+        # The count is read for the side only while no saucer flies or shows its hit
+        # (the ROM keeps the side of a saucer on screen: 0462-046B).
+        if self.saucer.saucer is None and self.saucer.hit_steps == 0:
             self.saucer.from_left = saucer.from_left_after(self.shots_removed)
 
     def burst_shot(self, x: int, top: int) -> None:
