@@ -342,3 +342,19 @@ def test_the_native_vector_environment_steps_as_gymnasiums_sync_one(obs_type):
     assert ends == 6  # each game cut at 40 frames, twice in 25 steps
     native.close()
     sync.close()
+
+
+def test_the_reward_is_the_points_scored_across_the_counters_wrap_at_10000():
+    env = SpaceInvadersEnv(obs_type="state", repeat_action_probability=0.0, frameskip=1)
+    env.reset(seed=0)
+    world = env.world
+    world.score = 9990
+    step = world.step
+
+    def scoring_step(bits):  # 30 points on this frame, as a top-row alien gives
+        world.add_score(30)
+        return step(bits)
+
+    world.step = scoring_step
+    _, reward, *_ = env.step(0)
+    assert world.score == 20 and reward == 30.0

@@ -311,6 +311,83 @@ def test_a_bomb_counts_its_launch_as_its_first_step():
     assert bombs.reload_ready(world.slots, other, 48)
 
 
+def test_the_rolling_bombs_skip_is_spent_on_its_very_next_turn_even_with_fire_off():
+    world = active_world()
+    _quiet(world)  # alien fire held off
+    slot = world.slots[BombType.ROLLING]
+    slot.skip_next = True
+    while world.tick % 3 != BombType.ROLLING:
+        world.step(0)
+    world.step(0)  # the rolling turn
+    assert not slot.skip_next
+    world.alien_fire_timer = 0
+    for btype in (BombType.PLUNGER, BombType.SQUIGGLY):  # busy, far past the reload count
+        other = world.slots[btype]
+        other.bomb = Bomb(world.store.new_id(), btype, 60 + 40 * btype, 60)
+        other.steps = 100
+        world.store.add(other.bomb)
+    world.step(0)
+    world.step(0)
+    fired = world.step(0)  # its next turn fires at once: the skip was spent already
+    assert Event.BOMB_FIRED in fired.events and slot.bomb is not None
+
+
+def _one_alien_left_under_the_plungers_next_column(world: World):
+    plunger = world.slots[BombType.PLUNGER]
+    col = DEFAULT_CONFIG.rules.plunger_columns[plunger.table_index] - 1
+    keep = world.rack.lowest_in_column(col)
+    for alien in list(world.rack.live_aliens()):
+        if alien is not keep:
+            world.rack.kill(alien, world.store)
+    return plunger
+
+
+def test_an_idle_plunger_fires_once_more_with_one_alien_left_then_is_switched_off():
+    world = active_world()
+    plunger = _one_alien_left_under_the_plungers_next_column(world)
+    world.explosions.clear()
+    _quiet(world)
+    while world.tick % 3 != BombType.PLUNGER:  # fire held off until the plunger's turn
+        world.step(0)
+    world.alien_fire_timer = 0
+    fired = world.step(0)
+    assert Event.BOMB_FIRED in fired.events and plunger.bomb is not None and not plunger.off
+    world.remove_bomb(plunger.bomb)  # it ends (on the cannon) with one alien left
+    assert plunger.off
+    for _ in range(600):
+        report = world.step(0)
+        assert plunger.bomb is None or Event.BOMB_FIRED not in report.events
+
+
+def test_a_plunger_bomb_ending_with_two_aliens_left_keeps_the_plunger_on():
+    world = active_world()
+    slot = world.slots[BombType.PLUNGER]
+    for alien in world.rack.live_aliens()[2:]:
+        world.rack.kill(alien, world.store)
+    bomb = Bomb(world.store.new_id(), BombType.PLUNGER, 100, 100)
+    world.store.add(bomb)
+    slot.bomb = bomb
+    world.burst_bomb(bomb, 100, 100)
+    step_until(world, lambda r: slot.burst == 0, limit=60)
+    assert not slot.off
+    world.rack.kill(world.rack.live_aliens()[0], world.store)
+    bomb = Bomb(world.store.new_id(), BombType.PLUNGER, 100, 100)
+    world.store.add(bomb)
+    slot.bomb = bomb
+    world.burst_bomb(bomb, 100, 100)
+    step_until(world, lambda r: slot.burst == 0, limit=60)
+    assert slot.off  # its burst ended with one alien left
+
+
+def test_the_score_has_four_digits_and_wraps_past_9990_to_0000():
+    world = active_world()
+    world.add_score(9990)
+    world.add_score(10)
+    assert world.score == 0
+    world.add_score(150)
+    assert world.score == 150 and world.ships == 4  # the extra ship came once, at 1500
+
+
 def test_the_rolling_bomb_skips_an_attempt_after_each_of_its_bombs():
     world = active_world()
     slot = world.slots[BombType.ROLLING]

@@ -170,3 +170,55 @@ def test_a_kept_line_of_text_lights_exactly_its_glyphs_pixels_first_time_and_aga
         lit = {(px, py) for px in range(224) for py in range(16, 32)
                if pic.screen.get_at((px, py))[:3] == (255, 255, 255)}
         assert lit == expected | {(x + 1, y + 7)}
+
+
+def test_the_hit_cannon_is_held_for_five_frames_then_shows_the_1c80_debris_first():
+    from invaders.game.config import DEFAULT_CONFIG
+    from invaders.lab.picture import death_picture
+
+    timing = DEFAULT_CONFIG.timing
+    world = active_world()
+    world.kill_cannon()
+    shown = []
+    for _ in range(timing.cannon_death):
+        shown.append(death_picture(world.cannon.timer, timing))
+        world.step(0)
+    cannon, c70, c80 = art.CANNON, art.CANNON_DEATH[0], art.CANNON_DEATH[1]
+    assert shown[:5] == [cannon] * 5
+    assert shown[5:25] == [c80] * 5 + [c70] * 5 + [c80] * 5 + [c70] * 5
+    flat = pygame.Surface((224, 256))
+    world = active_world()
+    world.kill_cannon()
+    for _ in range(7):  # the 8th frame since the hit: the first debris picture
+        world.step(0)
+    Renderer(1).draw(flat, world)
+    x, y = world.cannon.x, world.cannon.y
+    for row, line in enumerate(c80):
+        for col, ch in enumerate(line):
+            assert _lit(flat, x + col, y + row) == (ch == "#"), (col, row)
+
+
+def test_after_an_invasion_the_bottom_line_shows_no_ships_left():
+    from invaders.app.render import hud_texts
+
+    world = active_world()
+    world.invaded = True  # the rack has landed; the count still holds 3
+    assert ("0", 8, 240) in hud_texts(world)
+    flat = pygame.Surface((224, 256))
+    Renderer(1).draw(flat, world)
+    icons = flat.subsurface((24, 240, 112, 8))
+    assert not any(_lit(icons, x, y) for x in range(112) for y in range(8))
+    world.invaded = False
+    Renderer(1).draw(flat, world)
+    assert any(_lit(icons, x, y) for x in range(112) for y in range(8))
+
+
+def test_the_gel_is_mames_overlay_red_rows_32_to_61_green_below_and_x_16_to_133():
+    from invaders.lab.picture import GREEN_GEL, RED_GEL, gel_surface
+
+    gel = gel_surface()
+    assert [gel.get_at((100, y))[:3] == RED_GEL for y in (31, 32, 61, 62)] == [
+        False, True, True, False]
+    assert gel.get_at((0, 183))[:3] == (255, 255, 255) and gel.get_at((0, 184))[:3] == GREEN_GEL
+    assert [gel.get_at((x, 245))[:3] == GREEN_GEL for x in (15, 16, 133, 134)] == [
+        False, True, True, False]

@@ -30,7 +30,7 @@ from invaders.env.observations import (
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG, SCREEN_H, SCREEN_W
 from invaders.game.replay import CHECKPOINT_EVERY, Checkpoint, Replay
-from invaders.game.world import Phase, TickReport, World
+from invaders.game.world import SCORE_WRAP, Phase, TickReport, World
 
 GAME_OVER = Phase.GAME_OVER
 
@@ -150,7 +150,8 @@ class SpaceInvadersEnv(gym.Env):
         truncated = not terminated and self._episode_frames >= self.max_num_frames_per_episode
         if terminated or truncated:
             self._save_episode()
-        return float(world.score - score), terminated, truncated, reports
+        # (the counter has four digits, as the ROM's: points past 9990 wrap to 0000)
+        return float((world.score - score) % SCORE_WRAP), terminated, truncated, reports
 
     def render(self) -> np.ndarray | None:
         """The RGB picture (rgb_array), or the picture shown in a window (human)."""

@@ -23,7 +23,8 @@ class BombSlot:
     burst_x: int = 0
     burst_y: int = 0
     table_index: int = 0  # plunger and squiggly column cycles
-    skip_next: bool = False  # rolling skips its next attempt after each reset (04AB)
+    skip_next: bool = False  # rolling skips its next turn after each reset (04AB, 047D)
+    off: bool = False  # the plunger, once one of its bombs ends with one alien left
 
     @property
     def busy(self) -> bool:

@@ -199,7 +199,7 @@ class Rules(Section):
     saucer_scores: tuple[int, ...] = within(
         (100, 50, 50, 100, 150, 100, 100, 50, 300, 100, 100, 100, 50, 150, 100), 0, 9990, 1, 64)
     saucer_min_aliens: int = within(8, 0, 55)
-    plunger_min_aliens: int = within(2, 0, 55)  # disabled once only one alien remains
+    plunger_min_aliens: int = within(2, 0, 55)  # off once a bomb of it ends with fewer
 
 
 @dataclass(frozen=True, repr=False, eq=False)

@@ -46,6 +46,7 @@ from invaders.game.rules import make_rules
 
 LEFT, RIGHT, FIRE, START = (int(a) for a in (Action.LEFT, Action.RIGHT, Action.FIRE, Action.START))
 MOVES = LEFT | RIGHT
+SCORE_WRAP = 10_000  # the score is four BCD digits in the ROM
 
 
 class Phase(IntEnum):
@@ -295,6 +296,11 @@ class World:
             return
         if slot.burst > 0:
             slot.burst -= 1  # the step counter stands still during a burst (05CA)
+            if slot.burst == 0:
+                self._bomb_done(slot)
+            return
+        if slot.skip_next:  # spent on the rolling bomb's very next turn, whatever else (047D)
+            slot.skip_next = False
             return
         if slot.btype is SQUIGGLY and self.saucer.due:
             if self.rack.live >= cfg.rules.saucer_min_aliens:
@@ -310,7 +316,7 @@ class World:
         # Alien fire does not look at an alien's explosion (0563-05C0): only the rack waits.
         if self.alien_fire_timer != 0 or self.rack.live == 0:
             return
-        if slot.btype is PLUNGER and self.rack.live < cfg.rules.plunger_min_aliens:
+        if slot.off:
             return
         if slot.btype is SQUIGGLY and self.saucer.busy:
             return
@@ -318,9 +324,6 @@ class World:
         if reload[0] != self.score or reload[1] is not cfg:  # kept: asked nearly every tick
             reload = self._reload = (self.score, cfg, cfg.reload_steps_for(self.score))
         if not bombs.reload_ready(self.slots, slot, reload[2]):
-            return
-        if slot.skip_next:
-            slot.skip_next = False
             return
         col = bombs.choose_column(slot, cfg, self.cannon.x + cfg.geometry.cannon_centre,
                                   self.rack)
@@ -369,7 +372,8 @@ class World:
 
     # --- outcomes, called by movement and by collision response -----------------------------
     def add_score(self, points: int) -> None:
-        self.score += points
+        """Points in the ROM's four BCD digits: 9990 + 10 is 0000."""
+        self.score = (self.score + points) % SCORE_WRAP
         if not self.extra_awarded and self.score >= self.config.rules.extra_ship_at:
             self.extra_awarded = True
             self.ships += 1
@@ -416,7 +420,16 @@ class World:
     def remove_bomb(self, bomb: Bomb) -> None:
         """A bomb that hit the cannon just goes (the cannon's explosion is the picture)."""
         self.store.remove(bomb)
-        bombs.finish(self.slots[bomb.btype])
+        slot = self.slots[bomb.btype]
+        bombs.finish(slot)
+        self._bomb_done(slot)
+
+    def _bomb_done(self, slot: bombs.BombSlot) -> None:
+        """A bomb's object is set afresh: a plunger's that finishes with one alien left is
+        switched off for the rest of the wave (04FC-0505), so an idle plunger may still fire
+        once after the count drops."""
+        if slot.btype is PLUNGER and self.rack.live < self.config.rules.plunger_min_aliens:
+            slot.off = True
 
     def kill_alien(self, alien: Alien) -> None:
         self.rack.kill(alien, self.store)
@@ -494,7 +507,7 @@ class World:
             "cannon": (int(cannon.state), cannon.timer, cannon.x, cannon.y),
             "shot": None if shot is None else (shot.id, shot.x, shot.y),
             "bombs": tuple((int(s.btype), s.steps, s.burst, s.burst_x, s.burst_y,
-                            s.table_index, s.skip_next,
+                            s.table_index, s.skip_next, s.off,
                             None if s.bomb is None else (s.bomb.id, s.bomb.x, s.bomb.y,
                                                          s.bomb.frame))
                            for s in self.slots),

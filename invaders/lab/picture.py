@@ -19,8 +19,10 @@ WHITE = (255, 255, 255, 255)
 BACKGROUND = (0, 0, 0)
 RED_GEL = (255, 64, 64)
 GREEN_GEL = (64, 255, 64)
-GEL_STRIPS = ((RED_GEL, (0, 32, SCREEN_W, 32)), (GREEN_GEL, (0, 184, SCREEN_W, 56)),
-              (GREEN_GEL, (24, 240, 112, 16)))
+# MAME's upright overlay: red over rows 32-61, green over 184-239 and, in the bottom line,
+# over x 16-133 (the ships left). UNCERTAIN: read from MAME's artwork, not the cabinet.
+GEL_STRIPS = ((RED_GEL, (0, 32, SCREEN_W, 30)), (GREEN_GEL, (0, 184, SCREEN_W, 56)),
+              (GREEN_GEL, (16, 240, 118, 16)))
 
 
 def gel_surface() -> pygame.Surface:
@@ -99,7 +101,7 @@ class Picture:
             self.text(message, x, y)
         world.ground.to_surface(self.screen, setcolor=WHITE, unsetcolor=None,
                                 dest=(0, world.config.geometry.ground_row))
-        ships = max(world.ships, 0)
+        ships = shown_ships(world)
         cannon = self.sprite(art.CANNON)
         for i in range(min(ships - 1, 6)):
             self.screen.blit(cannon, (24 + 16 * i, 240))
@@ -119,8 +121,8 @@ class Picture:
         if cannon.state is CannonState.ACTIVE:
             blit(self.sprite(art.CANNON), (cannon.x, cannon.y))
         elif cannon.state is CannonState.EXPLODING and cannon.timer > 0:  # debris then clears
-            frame = (cannon.timer // world.config.timing.cannon_death_swap) % 2
-            blit(self.sprite(art.CANNON_DEATH[frame]), (cannon.x, cannon.y))
+            blit(self.sprite(death_picture(cannon.timer, world.config.timing)),
+                 (cannon.x, cannon.y))
         if world.shot is not None:
             blit(self.sprite(art.SHOT), _lerp(world.shot, world.tick, alpha))
         for slot in world.slots:
@@ -137,6 +139,17 @@ class Picture:
             blit(self.sprite(art.SAUCER_EXPLOSION), (state.hit_x, lane))
         elif state.hit_steps > 0:
             self.text(str(state.hit_score), state.hit_x + 4, lane)
+
+
+def death_picture(timer: int, timing) -> art.Art:
+    """The hit cannon: held as it was for one swap's frames, then the two debris pictures
+    in turn, @1C80 first (0296-03A5: the blow-up delay runs out before the first picture,
+    which toggles the sprite's number from 0 to 1)."""
+    elapsed = timing.cannon_death - timer
+    if elapsed < timing.cannon_death_swap:
+        return art.CANNON
+    turn = (elapsed - timing.cannon_death_swap) // timing.cannon_death_swap
+    return art.CANNON_DEATH[1 - turn % 2]
 
 
 def _keyed(picture: pygame.Surface) -> pygame.Surface:
@@ -165,9 +178,15 @@ def hud_texts(world: World) -> list[tuple[str, int, int]]:
         (f"{world.score:04d}", 24, 24),
         (f"{world.hi_score:04d}", 88, 24),
         ("0000", 168, 24),
-        (str(max(world.ships, 0)), 8, 240),
+        (str(shown_ships(world)), 8, 240),
         ("CREDIT 00", 136, 240),
     ]
+
+
+def shown_ships(world: World) -> int:
+    """The ships the bottom line shows: none once the rack has landed (the ROM erases the
+    icons and prints 0, 16FF), whatever the count still holds."""
+    return 0 if world.invaded else max(world.ships, 0)
 
 
 def _lerp(body, tick: int, alpha: float) -> tuple[int, int]:
