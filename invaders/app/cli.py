@@ -119,6 +119,9 @@ def _add_play(sub: argparse._SubParsersAction) -> None:
     play = sub.add_parser("play", help="play in a window")
     play.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0)
     play.add_argument("--scale", type=_int_in("--scale", 1, 8), default=3)
+    play.add_argument("--players", type=_int_in("--players", 1, 2), default=1,
+                      help="the game a recording or a screenshot starts with (in the "
+                           "window, 1 or 2 starts either)")
     play.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE)
     play.add_argument("--screenshot", metavar="FILE", type=_named("--screenshot"),
                       help="run headless for --ticks with the autopilot, save the window as PNG")
@@ -142,6 +145,8 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     run = sub.add_parser("run", help="run headless and print a summary and the state hash")
     run.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=3600)
     run.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0)
+    run.add_argument("--players", type=_int_in("--players", 1, 2), default=1,
+                     help="two take turns at each death, each with their own rack and shields")
     run.add_argument("--autopilot", nargs="?", const="hunter", choices=sorted(STYLES),
                      metavar="STYLE",
                      help="let the built-in player play: " + ", ".join(
@@ -220,7 +225,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         check_output(args.record, "replay", REPLAY_SUFFIXES)
     from invaders.game.world import World
 
-    world = World(seed=args.seed, broadphase=args.broadphase, cell=args.cell)
+    world = World(seed=args.seed, broadphase=args.broadphase, cell=args.cell,
+                  players=args.players)
     base = world.config
     lab = _lab_asked(args)
     shadow = None
@@ -294,7 +300,7 @@ def cmd_play(args: argparse.Namespace) -> int:
         check_output(args.screenshot, "screenshot", PICTURE_SUFFIXES)
         return screenshot(args.screenshot, seed=args.seed, ticks=args.ticks, scale=args.scale,
                           overlay=args.overlay, broadphase=args.broadphase,
-                          attract=args.attract, lab=lab)
+                          attract=args.attract, lab=lab, players=args.players)
     replay = None
     if args.replay:
         from invaders.app.replay_check import check_switches
@@ -315,7 +321,7 @@ def cmd_play(args: argparse.Namespace) -> int:
     try:
         return play(seed=args.seed, scale=args.scale, broadphase=args.broadphase,
                     overlay=args.overlay, record=args.record, replay=replay, speed=args.speed,
-                    mute=args.mute, lab=lab)
+                    mute=args.mute, lab=lab, players=args.players)
     except pygame.error as err:
         raise UsageError(f"cannot open a window ({err}); without a display, run the game "
                          "headless with 'invaders run'") from None

@@ -36,8 +36,10 @@ LEFT_KEYS = (pygame.K_LEFT, pygame.K_a)
 RIGHT_KEYS = (pygame.K_RIGHT, pygame.K_d)
 FIRE_KEYS = (pygame.K_SPACE,)
 START_KEYS = (pygame.K_RETURN, pygame.K_KP_ENTER, pygame.K_1)
+TWO_PLAYER_KEYS = (pygame.K_2, pygame.K_KP2)
 FIRE = int(Action.FIRE)
 START = int(Action.START)
+START2 = int(Action.START2)
 MAX_FPS = 240  # never draw faster than this, whatever the replay speed
 IDLE_FPS = 10  # paused or at a replay's end: wake this often, to answer keys
 SAVE_EVERY = 180  # ticks between autosaves of a recording (3 s)
@@ -81,6 +83,7 @@ class Session:
         self.start_requested = False  # Enter after a replay's end: the caller starts a game
         self.fire_presses = 0  # fire key-downs not yet given to a tick
         self.start_pressed = False
+        self.start_bits = START  # START2 once 2 was pressed: the next game has two players
         self.needs_draw = True  # something besides a tick changed what the window shows
         self.tick_rate = world.config.tick_hz * speed
         self.recorder = recorder
@@ -132,8 +135,9 @@ class Session:
                 return False
             if event.key in FIRE_KEYS:
                 self.fire_presses += 1
-            elif event.key in START_KEYS:
+            elif event.key in START_KEYS + TWO_PLAYER_KEYS:
                 self.start_pressed = True
+                self.start_bits = START2 if event.key in TWO_PLAYER_KEYS else START
                 if self.replay_done:
                     self.start_requested = True
             if event.key == pygame.K_p:
@@ -252,8 +256,9 @@ class Session:
             return self.pilot.actions(self.world)
         bits = held
         if self.start_pressed:
-            bits |= START
+            bits |= self.start_bits
             self.start_pressed = False
+        self.start_bits = START  # START2 once 2 was pressed: the next game has two players
         if self.fire_presses:
             if self.world.fire_was_down:
                 bits &= ~FIRE
@@ -313,6 +318,25 @@ class App:
                                                                 self._demo)
         self.mode = "attract" if self.attract is not None and attract_first else "game"
 
+    def _start(self, players: int) -> None:
+        """A coin and a start button: the next tick starts a game of one or two players
+        (the window's first game, not begun yet, is made again for two)."""
+        self.mode = "game"
+        session = self.session
+        world = session.world
+        if world.tick == 0 and world.players != players and session.recorder is None:
+            fresh = World(seed=world.seed, broadphase=self.broadphase, players=players)
+            lab = session.lab.choice if session.lab_open and session.lab else None
+            self.session = session = Session(fresh, session.target, self.clock, self.scale,
+                                             overlay=session.overlay, sounds=session.sounds,
+                                             lab=lab)
+            if self.attract is not None:
+                self.attract.scores = fresh
+        session.loop.resume()
+        session.start_pressed = True
+        session.start_bits = START2 if players == 2 else START
+        session.needs_draw = True
+
     def _demo(self) -> Session:
         world, pilot = demo_world(self.broadphase)
         return Session(world, self.window, self.clock, self.scale, pilot=pilot)
@@ -336,11 +360,8 @@ class App:
                     self.attract.redraw(self.session.target)
                 elif event.type == pygame.KEYDOWN and event.key == pygame.K_m:
                     self.session.handle(event)  # mute or unmute
-                elif event.type == pygame.KEYDOWN and event.key in START_KEYS:
-                    self.mode = "game"  # a coin and the start button: the next tick starts
-                    self.session.loop.resume()
-                    self.session.start_pressed = True
-                    self.session.needs_draw = True
+                elif event.type == pygame.KEYDOWN and event.key in START_KEYS + TWO_PLAYER_KEYS:
+                    self._start(2 if event.key in TWO_PLAYER_KEYS else 1)
             if self.mode == "attract":
                 return True, self.attract.frame()
         elif not all(self.session.handle(event) for event in events):
@@ -366,9 +387,9 @@ class App:
 
 def play(seed: int = 0, scale: int = 3, broadphase: str = DEFAULT_BROADPHASE, overlay: bool = False,
          record: str | None = None, replay: Replay | None = None, speed: int = 1,
-         mute: bool = False, lab: Choice | None = None) -> int:
-    """Open a window: the attract cycle until Enter or 1 starts a game (or a replay to
-    watch), until Esc, the window closes or a signal.
+         mute: bool = False, lab: Choice | None = None, players: int = 1) -> int:
+    """Open a window: the attract cycle until Enter or 1 starts a game, 2 a game of two
+    players (or a replay to watch), until Esc, the window closes or a signal.
 
     A recording is saved every few seconds and again when the window closes however it
     closes, always between two ticks, by appending whole lines: at worst the last seconds
@@ -376,9 +397,9 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = DEFAULT_BROADPHASE, ov
     (130, 143, 129) after saying where the recording went.
     """
     if replay is not None:
-        world = World(replay.seed, replay.config, broadphase=broadphase)
+        world = replay.world(broadphase)
     else:
-        world = World(seed=seed, broadphase=broadphase)
+        world = World(seed=seed, broadphase=broadphase, players=players)
     recorder = Recorder(world, record, SAVE_EVERY) if record else None
     title = "invaders" if replay is None else f"invaders: replay at {speed}x"
     window = open_window(scale, title, lab is not None)
@@ -414,14 +435,15 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = DEFAULT_BROADPHASE, ov
 
 def screenshot(path: str, seed: int = 0, ticks: int = 600, scale: int = 3,
                overlay: bool = False, broadphase: str = DEFAULT_BROADPHASE,
-               attract: str | None = None, lab: Choice | None = None) -> int:
+               attract: str | None = None, lab: Choice | None = None,
+               players: int = 1) -> int:
     """Play `ticks` ticks headless with the autopilot, then save the window as a PNG (or,
     with `attract`, that still screen of the attract cycle); with `lab`, the lab's panel
     beside it and the errors of its method marked."""
     from invaders.app.headless import use_dummy_drivers
 
     use_dummy_drivers()
-    world = World(seed=seed, broadphase=broadphase)
+    world = World(seed=seed, broadphase=broadphase, players=players)
     pilot = Autopilot(seed)
     width = SCREEN_W * scale + (panel_width(scale) if lab is not None else 0)
     target = pygame.Surface((width, SCREEN_H * scale))

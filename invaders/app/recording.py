@@ -53,7 +53,7 @@ class Recorder:
         self.save_every = save_every
         self.limit = limit
         # The game's config; a lab that sped the projectiles up records that as a switch.
-        self.replay = Replay(world.seed, config or world.config)
+        self.replay = Replay(world.seed, config or world.config, players=world.players)
         first = Checkpoint.of(world)
         self._keep = path is None  # the whole replay, for whoever asks for it
         if self._keep:

@@ -10,7 +10,8 @@ class Action(IntFlag):
     LEFT = 1
     RIGHT = 2
     FIRE = 4
-    START = 8
+    START = 8  # the one-player start button (a new game once the last one is over)
+    START2 = 16  # the two-player start button
 
 
-ALL_ACTIONS = int(Action.LEFT | Action.RIGHT | Action.FIRE | Action.START)
+ALL_ACTIONS = int(Action.LEFT | Action.RIGHT | Action.FIRE | Action.START | Action.START2)

@@ -25,3 +25,5 @@ class Event(IntEnum):
     INVASION = 15
     GAME_OVER = 16
     NEW_GAME = 17
+    PLAYER_UP = 18  # two players: the other's turn begins (PLAY PLAYER<n> is shown)
+    TURN_STARTED = 19  # two players: the player up has their own field back

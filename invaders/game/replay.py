@@ -55,8 +55,8 @@ MAX_SWITCH_FIELDS = 16
 MAX_HEADER_BYTES = 16 * 1024
 MAX_LINE_BYTES = 256 * 1024
 MAX_V1_BYTES = 8 * 1024 * 1024
-HEADER_KEYS = frozenset({"format", "version", "program", "seed", "config"})
-V1_KEYS = HEADER_KEYS | {"ticks", "inputs", "checkpoints"}
+HEADER_KEYS = frozenset({"format", "version", "program", "seed", "config", "players"})
+V1_KEYS = HEADER_KEYS - {"players"} | {"ticks", "inputs", "checkpoints"}
 Switch = tuple[int, dict[str, Any]]  # a lab choice, and the tick before whose step it began
 HASH = re.compile(r"^[0-9a-f]{32}$")
 GROUP_HASH = re.compile(r"^[0-9a-f]{16}$")
@@ -108,6 +108,7 @@ class Replay:
     checkpoints: list[Checkpoint] = field(default_factory=list)
     program: str = f"invaders {__version__}"
     switches: list[Switch] = field(default_factory=list)  # lab choices, by tick
+    players: int = 1  # the first game's (a later game's start button is in the inputs)
 
     @property
     def ticks(self) -> int:
@@ -125,8 +126,15 @@ class Replay:
             self.inputs.append([bits, 1])
 
     def header_line(self) -> str:
-        return _line({"format": FORMAT, "version": VERSION, "program": self.program,
-                      "seed": self.seed, "config": dataclasses.asdict(self.config)})
+        header = {"format": FORMAT, "version": VERSION, "program": self.program,
+                  "seed": self.seed, "config": dataclasses.asdict(self.config)}
+        if self.players != 1:  # (written only for two: one-player files are as they were)
+            header["players"] = self.players
+        return _line(header)
+
+    def world(self, broadphase: str = DEFAULT_BROADPHASE) -> World:
+        """The world this replay starts from."""
+        return World(self.seed, self.config, broadphase=broadphase, players=self.players)
 
     def lines(self) -> Iterator[str]:
         """The whole replay in the current format, line by line."""
@@ -310,14 +318,22 @@ def _header(data: Any) -> tuple[int, int, GameConfig, str]:
     return version, _int(data["seed"], "seed"), _config(data["config"]), data["program"]
 
 
+def _players(header: dict[str, Any]) -> int:
+    """How many players the recorded world starts with (1 when the header does not say)."""
+    players = header.get("players", 1)
+    _need(type(players) is int and players in (1, 2),
+          f"players must be 1 or 2, not {_shown(players)}")
+    return players
+
+
 def _finish(seed: int, config: GameConfig, runs: list[list[int]],
             checkpoints: list[Checkpoint], program: str, ticks: int,
-            switches: list[Switch] | None = None) -> Replay:
+            switches: list[Switch] | None = None, players: int = 1) -> Replay:
     _need(bool(checkpoints), "there is no checkpoint")
     seen = [c.tick for c in checkpoints]
     _need(seen == sorted(set(seen)), "checkpoint ticks must strictly increase")
     _need(seen[-1] == ticks, "the last checkpoint must be at the last tick")
-    return Replay(seed, config, runs, checkpoints, program, switches or [])
+    return Replay(seed, config, runs, checkpoints, program, switches or [], players)
 
 
 def parse(data: Any) -> Replay:
@@ -342,7 +358,9 @@ def parse_lines(lines: list[str], numbers: list[int] | None = None) -> Replay:
     line's number in its file (blank lines left out between them), 1, 2, 3... by default."""
     _need(len(lines[0]) <= MAX_HEADER_BYTES,
           f"the header line is {len(lines[0]):,} characters: at most {MAX_HEADER_BYTES:,}")
-    _, seed, config, program = _header(_decode(lines[0], "the header line"))
+    header = _decode(lines[0], "the header line")
+    _, seed, config, program = _header(header)
+    players = _players(header)
     runs: list[list[int]] = []
     checkpoints: list[Checkpoint] = []
     switches: list[Switch] = []
@@ -364,7 +382,7 @@ def parse_lines(lines: list[str], numbers: list[int] | None = None) -> Replay:
         _need(checkpoint.tick == total,
               f"{where}: its checkpoint is at tick {checkpoint.tick}, its inputs end at {total}")
         checkpoints.append(checkpoint)
-    return _finish(seed, config, runs, checkpoints, program, total, switches)
+    return _finish(seed, config, runs, checkpoints, program, total, switches, players)
 
 
 def _bounded_int(text: str) -> int:
@@ -521,7 +539,7 @@ def run(replay: Replay, broadphase: str = DEFAULT_BROADPHASE, recompute: bool = 
     """
     _need(not replay.switches or switch is not None,
           "the replay switches collision methods in the lab: it needs the lab to run")
-    world = World(replay.seed, replay.config, broadphase=broadphase)
+    world = replay.world(broadphase)
     pending = iter(replay.switches)
     upcoming = next(pending, None)
     expected = {c.tick: c for c in replay.checkpoints}

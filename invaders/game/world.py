@@ -41,10 +41,12 @@ from invaders.game.entities import (
 )
 from invaders.game.events import Event
 from invaders.game.kinds import THINGS, Kind
+from invaders.game.players import PROMPT, SWITCH_TICKS, Turn, hide
 from invaders.game.rack import Rack
 from invaders.game.rules import make_rules
 
-LEFT, RIGHT, FIRE, START = (int(a) for a in (Action.LEFT, Action.RIGHT, Action.FIRE, Action.START))
+LEFT, RIGHT, FIRE, START, START2 = (int(a) for a in (
+    Action.LEFT, Action.RIGHT, Action.FIRE, Action.START, Action.START2))
 MOVES = LEFT | RIGHT
 SCORE_WRAP = 10_000  # the score is four BCD digits in the ROM
 
@@ -53,11 +55,13 @@ class Phase(IntEnum):
     PLAYING = 0
     WAVE_END = 1
     GAME_OVER = 2
+    SWITCH = 3  # two players, between turns: the field held, then PLAY PLAYER<n>
 
 
 # Members the tick reads, bound once: an enum member looked up by name goes through the
 # enum class's __getattr__ hook, several times slower than reading a global.
-PLAYING, WAVE_END, GAME_OVER = Phase.PLAYING, Phase.WAVE_END, Phase.GAME_OVER
+PLAYING, WAVE_END, GAME_OVER, SWITCH = (Phase.PLAYING, Phase.WAVE_END, Phase.GAME_OVER,
+                                        Phase.SWITCH)
 ACTIVE, WAITING, EXPLODING = CannonState.ACTIVE, CannonState.WAITING, CannonState.EXPLODING
 SQUIGGLY, PLUNGER, ROLLING = BombType.SQUIGGLY, BombType.PLUNGER, BombType.ROLLING
 
@@ -86,7 +90,10 @@ class World:
         broadphase: str = DEFAULT_BROADPHASE,
         detector: Detector | None = None,
         cell: int = DEFAULT_CELL,
+        players: int = 1,
     ) -> None:
+        if players not in (1, 2):
+            raise ValueError(f"players {players!r}: 1 or 2")
         self.config = config
         self.seed = seed
         # The game's only generator. The 1978 rules draw nothing from chance (the saucer's
@@ -105,7 +112,7 @@ class World:
         self.events: list[Event] = []
         self._reload: tuple[int, GameConfig | None, int] = (-1, None, 0)  # score, config, steps
         self.ground = art.fresh_mask(art.GROUND)
-        self._new_game()
+        self._new_game(players)
 
     @property
     def tick(self) -> int:
@@ -122,27 +129,39 @@ class World:
         return self.store.by_kind[kind]
 
     # --- game and wave set-up ------------------------------------------------------------
-    def _new_game(self) -> None:
+    def _new_game(self, players: int = 1) -> None:
         self.score = 0
         self.invaded = False
         self.ships = self.config.rules.ships
         self.extra_awarded = False
         self.games += 1
         self.ground = art.fresh_mask(art.GROUND)
+        self.players, self.player = players, 1
+        # The player waiting for a turn (player 2 starts on a fresh wave 1), or None.
+        self.waiting = Turn(2, 0, self.ships, False, 1, None) if players == 2 else None
+        self._shields_up: list[pygame.mask.Mask] = []  # the player up's, while PLAY PLAYER<n>
         self._start_wave(1)
 
     def _start_wave(self, wave: int) -> None:
+        self.wave = wave
+        self._set_field(Rack(self.config, self.config.start_top(wave), self.store), None)
+        self.events.append(Event.WAVE_STARTED)
+
+    def _set_field(self, rack: Rack, shields: list[pygame.mask.Mask] | None) -> None:
+        """A cleared field with this rack and these shields (fresh ones for None), the
+        cannon waiting at the left, no shot, bomb or saucer."""
         cfg = self.config
         g = cfg.geometry
         store = self.store
         for kind in THINGS:  # the edges stay
             for body in list(store.by_kind[kind]):
                 store.remove(body)
-        self.wave = wave
         self.phase = PLAYING
         self.phase_timer = 0
-        self.rack = Rack(cfg, cfg.start_top(wave), store)
+        self.rack = rack
         self.bunkers = [Bunker(store.new_id(), x, g.bunker_top) for x in g.bunker_xs]
+        for bunker, mask in zip(self.bunkers, shields or (), strict=False):
+            bunker.mask = mask
         self.erosions = 0  # how many times a shield lost pixels this wave (for observers)
         for bunker in self.bunkers:
             store.add(bunker)
@@ -155,7 +174,6 @@ class World:
         self.saucer = saucer.SaucerState(timer=cfg.timing.saucer_timer)
         self.shots_removed = 0
         self.explosions: list[Explosion] = []
-        self.events.append(Event.WAVE_STARTED)
 
     def _cannon_wait(self) -> None:
         self.respawning = False  # a wave's start (a death sets it after this)
@@ -188,9 +206,15 @@ class World:
                     self._start_wave(self.wave + 1)
         elif self.phase is GAME_OVER:
             self.phase_timer -= 1
-            if self.phase_timer <= 0 and actions & START:
-                self._new_game()
+            if self.phase_timer <= 0 and actions & (START | START2):
+                self._new_game(2 if actions & START2 else 1)
                 self.events.append(Event.NEW_GAME)
+        elif self.phase is SWITCH:
+            self.phase_timer -= 1
+            if self.phase_timer == PROMPT:
+                self._change_players()
+            elif self.phase_timer <= 0:
+                self._resume_turn()
         store = self.store
         contacts, stats = self.detector.detect(store)
         applied = respond(contacts, store.by_id, self) if contacts else ()
@@ -249,12 +273,12 @@ class World:
         if cannon.state is EXPLODING:
             cannon.timer -= 1
             if cannon.timer <= 0:
-                if self.invaded:  # the rack landed: no ship is lost, the game is over
-                    self._game_over()
-                    return
-                self.ships -= 1
-                self.events.append(Event.SHIP_LOST)
-                if self.ships <= 0:
+                if not self.invaded:  # the rack landed: no ship is lost, the game is over
+                    self.ships -= 1
+                    self.events.append(Event.SHIP_LOST)
+                if self.waiting is not None and not self.waiting.out:
+                    self._hold_for_the_other_player()
+                elif self.invaded or self.ships <= 0:
                     self._game_over()
                 else:
                     self._cannon_wait()
@@ -474,6 +498,59 @@ class World:
             self.phase_timer = self.config.timing.wave_pause
             self.events.append(Event.WAVE_CLEARED)
 
+    # --- two players ------------------------------------------------------------------------
+    @property
+    def out(self) -> bool:
+        """The player up has no ships left, or the rack landed on them."""
+        return self.invaded or self.ships <= 0
+
+    def scores(self) -> tuple[int, int | None]:
+        """Player 1's and player 2's scores (None for player 2 in a one-player game)."""
+        if self.waiting is None:
+            return self.score, None
+        other = self.waiting.score
+        return (self.score, other) if self.player == 1 else (other, self.score)
+
+    def _hold_for_the_other_player(self) -> None:
+        """A death with the other player still in: the field stays as it is, then it is the
+        other's turn (02D7-0329); one whose last ship it was is out (GAME OVER PLAYER<n>)."""
+        self.phase = SWITCH
+        self.phase_timer = SWITCH_TICKS
+        if self.out:
+            self.hi_score = max(self.hi_score, self.score)
+
+    def _change_players(self) -> None:
+        """The field cleared and the other player up: their score, ships and wave now,
+        their rack and shields when the prompt ends."""
+        waiting = self.waiting
+        assert waiting is not None
+        self.waiting = Turn(self.player, self.score, self.ships, self.extra_awarded, self.wave,
+                            self.rack, [bunker.mask for bunker in self.bunkers], out=self.out)
+        for kind in THINGS:
+            for body in list(self.store.by_kind[kind]):
+                self.store.remove(body)
+        hide(self.rack)
+        self.shot, self.slots, self.explosions, self.bunkers = None, bombs.new_slots(), [], []
+        self.saucer = saucer.SaucerState(timer=self.config.timing.saucer_timer)
+        self.player, self.score, self.ships = waiting.number, waiting.score, waiting.ships
+        self.extra_awarded, self.wave, self.invaded = waiting.extra_awarded, waiting.wave, False
+        self.rack = waiting.rack or Rack(self.config, self.config.start_top(self.wave),
+                                         self.store)
+        self._shields_up = waiting.shields
+        self.ground = art.fresh_mask(art.GROUND)  # the bottom line drawn afresh (0804)
+        self.phase_timer = PROMPT
+        self.events.append(Event.PLAYER_UP)
+
+    def _resume_turn(self) -> None:
+        """The player up's own shields back and their rack drawn again one alien a tick,
+        the cannon ready at once (0318)."""
+        self._set_field(self.rack, self._shields_up or None)
+        self._shields_up = []
+        self.cannon.state = ACTIVE
+        self.store.add(self.cannon)
+        self.alien_fire_timer = self.config.timing.alien_fire_delay
+        self.events.append(Event.TURN_STARTED)
+
     def _game_over(self) -> None:
         self.phase = GAME_OVER
         self.phase_timer = self.config.timing.game_over_pause
@@ -496,7 +573,7 @@ class World:
         cannon = self.cannon
         shot = self.shot
         ship = self.saucer
-        return {
+        groups: dict[str, tuple | bytes | None] = {
             "game": (self.seed, self.tick, int(self.phase), self.phase_timer, self.score,
                      self.hi_score, self.ships, self.extra_awarded, self.wave, self.games,
                      self.fire_was_down, self.alien_fire_timer, self.shots_removed,
@@ -519,6 +596,10 @@ class World:
             "ground": statehash.mask_bytes(self.ground),
             "explosions": tuple((e.blast.value, e.x, e.y, e.ttl) for e in self.explosions),
         }
+        if self.waiting is not None:  # (a one-player game's groups are as they always were)
+            groups["game"] += (self.player, self.waiting.state(),
+                               b"".join(statehash.mask_bytes(m) for m in self._shields_up))
+        return groups
 
     def group_hashes(self) -> dict[str, str]:
         """A short digest per state group."""

@@ -24,6 +24,7 @@ MOVES_IN_ORDER = {-1: (-1, 0, 1), 0: (0, -1, 1), 1: (1, 0, -1)}  # the wish, sta
 # Plain ints: flag arithmetic on the enum costs more than the rest of a quiet tick.
 LEFT, RIGHT, FIRE, START = (int(Action.LEFT), int(Action.RIGHT), int(Action.FIRE),
                             int(Action.START))
+START2 = int(Action.START2)
 
 
 
@@ -70,7 +71,7 @@ class Autopilot:
 
     def actions(self, world: World) -> int:
         if world.phase is GAME_OVER:
-            return START if world.tick % 30 == 0 else 0
+            return (START2 if world.players == 2 else START) if world.tick % 30 == 0 else 0
         cannon = world.cannon
         if cannon.state is not ACTIVE:
             return 0

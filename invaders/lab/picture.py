@@ -12,6 +12,7 @@ import pygame
 from invaders.game import art
 from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.entities import BOMB_PICTURES, CannonState
+from invaders.game.players import PROMPT
 from invaders.game.world import Phase, World
 from invaders.lab import font
 
@@ -78,6 +79,8 @@ class Picture:
         if world.phase is Phase.GAME_OVER:
             for message, x, y in game_over_texts():
                 self.text(message, x, y)
+        for message, x, y in turn_texts(world):
+            self.text(message, x, y)
         return self.screen
 
     def draw_card(self, world: World, texts: list[tuple[str, int, int]],
@@ -171,16 +174,26 @@ def game_over_texts() -> list[tuple[str, int, int]]:
 
 def hud_texts(world: World) -> list[tuple[str, int, int]]:
     """The score bar and the bottom line as the original lays them out: the header with both
-    players' scores, the high score (which changes only when a game ends, 166D-1695), the
-    ships left, and the credit count; no wave label."""
-    return [
-        ("SCORE<1> HI-SCORE SCORE<2>", 8, 8),
-        (f"{world.score:04d}", 24, 24),
-        (f"{world.hi_score:04d}", 88, 24),
-        ("0000", 168, 24),
-        (str(shown_ships(world)), 8, 240),
-        ("CREDIT 00", 136, 240),
-    ]
+    players' scores (player 2's blank in a one-player game, 08E4; the player up's flashing
+    while PLAY PLAYER<n> shows, 08A9-08CE), the high score (which changes only when a game
+    ends, 166D-1695), the ships left, and the credit count; no wave label."""
+    texts = [("SCORE<1> HI-SCORE SCORE<2>", 8, 8), (f"{world.hi_score:04d}", 88, 24)]
+    flashing = world.phase is Phase.SWITCH and world.phase_timer <= PROMPT and (
+        world.phase_timer & 4)
+    for number, (score, x) in enumerate(zip(world.scores(), (24, 168), strict=True), 1):
+        if score is not None and not (flashing and number == world.player):
+            texts.append((f"{score:04d}", x, 24))
+    return [*texts, (str(shown_ships(world)), 8, 240), ("CREDIT 00", 136, 240)]
+
+
+def turn_texts(world: World) -> list[tuple[str, int, int]]:
+    """Between two players' turns: GAME OVER PLAYER<n> under the field of one who is out
+    (1698-16B7), then PLAY PLAYER<n> for the one up (088D)."""
+    if world.phase is not Phase.SWITCH:
+        return []
+    if world.phase_timer > PROMPT:
+        return [(f"GAME OVER PLAYER<{world.player}>", 32, 224)] if world.out else []
+    return [(f"PLAY PLAYER<{world.player}>", 56, 112)]
 
 
 def shown_ships(world: World) -> int:

@@ -142,10 +142,9 @@ def write_csv(path: Path, rows: list[dict]) -> None:
 def game_counters(replay: Path, ticks: int = 3600) -> dict[str, list[int]]:
     """Per-tick counters of the default pipeline over a replay's first ticks."""
     from invaders.game.replay import load
-    from invaders.game.world import World
 
     data = load(replay)
-    world = World(data.seed, data.config)
+    world = data.world()
     series: dict[str, list[int]] = {"naive pairs": [], "rules allow": [], "broad phase": [],
                                     "rect tests": [], "mask + swept tests": [], "contacts": []}
     for n, bits in enumerate(data.actions()):

@@ -19,7 +19,6 @@ from invaders.engine.stats import CollisionStats, Contact
 from invaders.game.config import DEFAULT_CONFIG
 from invaders.game.replay import load
 from invaders.game.rules import make_rules
-from invaders.game.world import World
 from invaders.lab.frames import Frame, FrameScene, play_frames, sampled, snapshot
 from invaders.lab.matrix import Method, detector_for
 from invaders.lab.oracle import true_contacts
@@ -77,7 +76,7 @@ def record(spec: SceneSpec) -> list[Frame]:
     """The scene's frames, from tick 0 (a replay as the default detector saw it)."""
     if spec.replay is not None:
         replay = load(spec.replay)
-        world = World(replay.seed, replay.config)
+        world = replay.world()
         recorder = FrameRecorder()
         world.detector.observers.append(recorder)
         for n, bits in enumerate(replay.actions()):
