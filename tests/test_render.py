@@ -90,9 +90,16 @@ def test_game_over_is_written_clear_of_the_rack_and_the_dead_cannon_is_cleared()
     world = World(seed=1)
     # The top row's pictures at the highest start of any wave: the rack only comes down.
     highest_ever = min(DEFAULT_CONFIG.start_top(w) for w in range(1, 12)) - 16 * 4
-    for message, x, y in game_over_texts():
-        assert y + 8 <= highest_ever  # above every row the rack can reach
-        assert x >= 0 and x + 8 * len(message) <= 224
+    world._game_over()
+    typed = []
+    while world.phase_timer > 0:
+        (text,) = game_over_texts(world)
+        typed.append(text)
+        world.step(0)
+    assert typed[0] == ("G", 72, 56) and typed[6] == ("GA", 72, 56)  # six frames a letter
+    assert typed[-1] == ("GAME OVER", 72, 56) and typed.count(typed[-1]) > 60
+    assert typed[-1][2] + 8 <= highest_ever  # above every row the rack can reach
+    world = World(seed=1)
     world.kill_cannon()
     world.ships = 1
     step_until(world, lambda r: world.phase is Phase.GAME_OVER, limit=200)

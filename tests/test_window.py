@@ -116,25 +116,33 @@ def _app():
     return App(world, pygame.Surface((224, 256)), clock, scale=1), clock, world
 
 
-def test_the_attract_cycle_shows_its_screens_in_order_and_enter_starts_a_game():
-    from invaders.app.attract import SCREENS
-
+def test_the_attract_cycle_runs_its_steps_the_demo_until_its_cannon_dies_and_enter_starts():
     app, clock, world = _app()
-    seen = []
-    for _ in range(int(sum(seconds for _, seconds in SCREENS) * 10) + 20):
-        clock.now += 0.1
-        going, _ = app.step([], 0)
+    world.hi_score, world.score = 1230, 70  # a game played before: the demo shows them
+    kinds, demo_ticks, drawn = [], 0, 0
+    for _ in range(60 * 200):
+        clock.now += 1 / 60
+        going, drew = app.step([], 0)
         assert going
-        if not seen or seen[-1] != app.attract.screen:
-            seen.append(app.attract.screen)
-    assert seen == ["title", "table", "demo", "insert", "title"]
+        drawn += drew
+        if not kinds or kinds[-1] != app.attract.step:
+            kinds.append(app.attract.step)
+        if app.attract.demo is not None:
+            demo = app.attract.demo.world
+            demo_ticks = demo.tick
+            assert (demo.hi_score, demo.score) == (1230, 70)  # kept: the demo scores nothing
+        if len(kinds) > 2 and kinds[-1] == "wait" and kinds[-2] == "type" and not (
+                app.attract.animated):
+            break  # into the second cycle's title
+    assert kinds[:3] == ["wait", "type", "wait"] and "move" in kinds and "shoot" in kinds
+    assert kinds.count("demo") == 1 and demo_ticks > 0
     assert world.tick == 0  # the player's world waits; the demo played in its own
+    assert drawn < 60 * 200  # still frames are not drawn again
     app.step([_key(pygame.KEYDOWN, pygame.K_RETURN)], 0)
     assert app.mode == "game"
     clock.now += 1 / 60
     app.step([], 0)
     assert world.tick > 0
-
 
 def test_after_game_over_the_attract_cycle_comes_back_and_the_next_game_keeps_the_high_score():
     app, clock, world = _app()

@@ -128,8 +128,9 @@ def _add_play(sub: argparse._SubParsersAction) -> None:
     play.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=600)
     play.add_argument("--overlay", action="store_true", help="start with the debug overlay on")
     play.add_argument("--mute", action="store_true", help="start with the sound off (M toggles)")
-    play.add_argument("--attract", choices=("title", "table", "insert"),
-                      help="with --screenshot: save that screen of the attract cycle instead")
+    play.add_argument("--attract", choices=("title", "table", "pull", "insert"),
+                      help="with --screenshot: save that moment of the attract cycle instead "
+                           "(pull: the alien pulling PLAY's Y; insert: INSERT CCOIN)")
     play.add_argument("--record", metavar="FILE", type=_named("--record"),
                       help="record the game as a replay (JSON)")
     play.add_argument("--replay", metavar="FILE", type=_named("--replay"),

@@ -110,6 +110,7 @@ class World:
         self.aliens_killed = 0
         self.fire_was_down = False
         self.events: list[Event] = []
+        self.scoring = True  # False: the attract cycle's demo, which scores nothing
         self._reload: tuple[int, GameConfig | None, int] = (-1, None, 0)  # score, config, steps
         self.ground = art.fresh_mask(art.GROUND)
         self._new_game(players)
@@ -396,7 +397,10 @@ class World:
 
     # --- outcomes, called by movement and by collision response -----------------------------
     def add_score(self, points: int) -> None:
-        """Points in the ROM's four BCD digits: 9990 + 10 is 0000."""
+        """Points in the ROM's four BCD digits: 9990 + 10 is 0000. None in the attract
+        cycle's demo (0A62: no score outside a game)."""
+        if not self.scoring:
+            return
         self.score = (self.score + points) % SCORE_WRAP
         if not self.extra_awarded and self.score >= self.config.rules.extra_ship_at:
             self.extra_awarded = True
@@ -596,6 +600,8 @@ class World:
             "ground": statehash.mask_bytes(self.ground),
             "explosions": tuple((e.blast.value, e.x, e.y, e.ttl) for e in self.explosions),
         }
+        if not self.scoring:
+            groups["game"] += ("demo",)
         if self.waiting is not None:  # (a one-player game's groups are as they always were)
             groups["game"] += (self.player, self.waiting.state(),
                                b"".join(statehash.mask_bytes(m) for m in self._shields_up))

@@ -77,7 +77,7 @@ class Picture:
         self._draw_hud(world)
         self._draw_play(world, alpha)
         if world.phase is Phase.GAME_OVER:
-            for message, x, y in game_over_texts():
+            for message, x, y in game_over_texts(world):
                 self.text(message, x, y)
         for message, x, y in turn_texts(world):
             self.text(message, x, y)
@@ -164,12 +164,15 @@ def _keyed(picture: pygame.Surface) -> pygame.Surface:
     return keyed
 
 
-def game_over_texts() -> list[tuple[str, int, int]]:
-    """GAME OVER and how to start again, centred in the rows just below the saucer's lane:
-    the rack never rises above its first rows, so nothing is drawn over it however low it
-    has come. UNCERTAIN: our notes do not give the original's place for the text."""
-    return [("GAME OVER", (SCREEN_W - 8 * 9) // 2, 48),
-            ("PRESS ENTER", (SCREEN_W - 8 * 11) // 2, 56)]
+GAME_OVER_LETTER = 6  # frames a letter of GAME OVER takes to type (0A93)
+
+
+def game_over_texts(world: World) -> list[tuple[str, int, int]]:
+    """GAME OVER alone, typed a letter every six frames at the ROM's place (72, 56: 16C9),
+    in the rows just below the saucer's lane, which the rack never reaches. The window goes
+    back to the attract cycle when it has shown (Enter waits for that)."""
+    shown = (world.config.timing.game_over_pause - world.phase_timer) // GAME_OVER_LETTER + 1
+    return [("GAME OVER"[:max(0, min(9, shown))], 72, 56)]
 
 
 def hud_texts(world: World) -> list[tuple[str, int, int]]:
