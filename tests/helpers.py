@@ -80,3 +80,14 @@ def windowed(world: World, **options):
 
     clock = FakeClock()
     return Session(world, pygame.Surface((224, 256)), clock, scale=1, **options), clock
+
+
+def through_the_prompt(app, clock) -> list[bool]:
+    """Frames until PLAY PLAYER<1> has shown its three seconds and the game is on; whether
+    each drew."""
+    drew = []
+    while app.mode == "prompt":
+        clock.now += 1 / 60
+        drew.append(app.step([], 0)[1])
+        assert len(drew) < 400
+    return drew

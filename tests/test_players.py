@@ -14,7 +14,7 @@ from invaders.game.replay import load
 from invaders.game.world import Phase, World
 from invaders.lab.autopilot import Autopilot
 from invaders.lab.picture import hud_texts, turn_texts
-from tests.helpers import step_until
+from tests.helpers import step_until, through_the_prompt
 
 
 def _lose_a_ship(world: World) -> None:
@@ -145,7 +145,21 @@ def test_key_2_in_the_attract_cycle_starts_a_game_of_two(monkeypatch):
     clock = FakeClock()
     app = App(World(seed=4), pygame.Surface((224, 256)), clock, scale=1)
     app.step([pygame.event.Event(pygame.KEYDOWN, key=pygame.K_2)], 0)
-    assert app.mode == "game" and app.session.world.players == 2
+    assert app.mode == "prompt" and app.session.world.players == 2
+    through_the_prompt(app, clock)
     clock.now += 1 / 60
     app.step([], 0)
     assert app.session.world.tick > 0
+
+
+def test_before_a_new_game_play_player_1_flashes_the_new_games_score_not_the_last_ones():
+    from invaders.lab.picture import Prompt
+
+    world = World(seed=0)
+    world.score, world.hi_score = 450, 900  # the last game's
+    on = {(x, y): m for m, x, y in hud_texts(world, Prompt(players=1, left=8))}
+    off = {(x, y): m for m, x, y in hud_texts(world, Prompt(players=1, left=4))}
+    assert on[(24, 24)] == "0000" and (24, 24) not in off and on[(88, 24)] == "0900"
+    assert (168, 24) not in on  # one player: SCORE<2> blank
+    two = {(x, y): m for m, x, y in hud_texts(world, Prompt(players=2, left=4))}
+    assert two[(168, 24)] == "0000" and (24, 24) not in two

@@ -15,7 +15,7 @@ from invaders.app.recording import Recorder, record_headless
 from invaders.game.actions import Action
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
-from tests.helpers import windowed
+from tests.helpers import through_the_prompt, windowed
 
 FIRE = int(Action.FIRE)
 
@@ -139,14 +139,18 @@ def test_the_attract_cycle_runs_its_steps_the_demo_until_its_cannon_dies_and_ent
     assert world.tick == 0  # the player's world waits; the demo played in its own
     assert drawn < 60 * 200  # still frames are not drawn again
     app.step([_key(pygame.KEYDOWN, pygame.K_RETURN)], 0)
-    assert app.mode == "game"
+    assert app.mode == "prompt"
+    drew = through_the_prompt(app, clock)
+    assert 170 <= len(drew) <= 180 and 40 <= sum(drew) <= 50  # the score flashing: 8 frames
+    assert world.tick == 0
     clock.now += 1 / 60
     app.step([], 0)
-    assert world.tick > 0
+    assert app.mode == "game" and world.tick > 0
 
 def test_after_game_over_the_attract_cycle_comes_back_and_the_next_game_keeps_the_high_score():
     app, clock, world = _app()
     app.step([_key(pygame.KEYDOWN, pygame.K_1)], 0)
+    through_the_prompt(app, clock)
     world.score = 70
     world.ships = 1
     world.kill_cannon()
@@ -157,6 +161,7 @@ def test_after_game_over_the_attract_cycle_comes_back_and_the_next_game_keeps_th
             break
     assert app.mode == "attract" and world.hi_score == 70
     app.step([_key(pygame.KEYDOWN, pygame.K_RETURN)], 0)
+    through_the_prompt(app, clock)
     for _ in range(3):
         clock.now += 1 / 60
         app.step([], 0)

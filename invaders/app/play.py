@@ -23,14 +23,17 @@ from invaders.app.recording import Recorder
 from invaders.app.render import CandidateWatch, Renderer
 from invaders.app.signals import StopSignals
 from invaders.app.sound import SoundBoard
+from invaders.app.splash import FPS
 from invaders.atomic import atomic_writer
 from invaders.engine.adaptive import DEFAULT_BROADPHASE
 from invaders.game.actions import Action
 from invaders.game.config import SCREEN_H, SCREEN_W
+from invaders.game.players import PROMPT
 from invaders.game.replay import Replay
 from invaders.game.world import Phase, TickReport, World
 from invaders.lab.autopilot import Autopilot
 from invaders.lab.live import Choice
+from invaders.lab.picture import Prompt
 
 LEFT_KEYS = (pygame.K_LEFT, pygame.K_a)
 RIGHT_KEYS = (pygame.K_RIGHT, pygame.K_d)
@@ -319,9 +322,11 @@ class App:
         self.mode = "attract" if self.attract is not None and attract_first else "game"
 
     def _start(self, players: int) -> None:
-        """A coin and a start button: the next tick starts a game of one or two players
-        (the window's first game, not begun yet, is made again for two)."""
-        self.mode = "game"
+        """A coin and a start button: PLAY PLAYER<1> with the new score flashing for three
+        seconds (088D-08CE), then the next tick starts a game of one or two players (the
+        window's first game, not begun yet, is made again for two)."""
+        self.mode = "prompt"
+        self.prompt_since = self.clock()
         session = self.session
         world = session.world
         if world.tick == 0 and world.players != players and session.recorder is None:
@@ -332,23 +337,48 @@ class App:
                                              lab=lab)
             if self.attract is not None:
                 self.attract.scores = fresh
-        session.loop.resume()
-        session.start_pressed = True
         session.start_bits = START2 if players == 2 else START
-        session.needs_draw = True
+        self.prompt_players = players
+        self.prompted: Prompt | None = None
+
+    def _prompt_frame(self) -> bool:
+        """A frame of PLAY PLAYER<1>; when its time is up, the game. Returns whether it drew."""
+        left = PROMPT - int((self.clock() - self.prompt_since) * FPS)
+        session = self.session
+        if left <= 0:
+            self.mode = "game"
+            session.loop.resume()
+            session.start_pressed = True
+            session.needs_draw = True
+            return False
+        prompt = Prompt(self.prompt_players, left)
+        if self.prompted is not None and (self.prompted.left & 4) == (left & 4):
+            return False
+        self.prompted = prompt
+        self.attract.renderer.draw_card(session.target, session.world,
+                                        [("PLAY PLAYER<1>", 56, 112)], [], prompt)
+        return True
 
     def _demo(self) -> Session:
         world, pilot = demo_world(self.broadphase)
         return Session(world, self.window, self.clock, self.scale, pilot=pilot)
 
     def frames_per_second(self) -> int:
-        if self.mode == "attract" and self.attract is not None:
+        if self.mode in ("attract", "prompt") and self.attract is not None:
             return self.attract.frames_per_second()
         return self.session.frames_per_second()
 
     def step(self, events: list[pygame.event.Event], held: int,
              stop: Callable[[], bool] | None = None) -> tuple[bool, bool]:
         """One frame: (go on, drew something)."""
+        if self.mode == "prompt":
+            if any(event.type == pygame.QUIT or (event.type == pygame.KEYDOWN
+                                                 and event.key == pygame.K_ESCAPE)
+                   for event in events):
+                return False, False
+            drew = self._prompt_frame()
+            if self.mode == "prompt":
+                return True, drew
         if self.mode == "attract" and self.attract is not None:
             for event in events:
                 if event.type == pygame.QUIT or (event.type == pygame.KEYDOWN
@@ -364,6 +394,7 @@ class App:
                     self._start(2 if event.key in TWO_PLAYER_KEYS else 1)
             if self.mode == "attract":
                 return True, self.attract.frame()
+            return True, self._prompt_frame()
         elif not all(self.session.handle(event) for event in events):
             return False, False
         before = self.session.world.tick

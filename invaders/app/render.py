@@ -20,7 +20,7 @@ from invaders.game import art
 from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.kinds import EDGES, Kind
 from invaders.game.world import TickReport, World
-from invaders.lab.picture import BACKGROUND, Picture, game_over_texts, hud_texts
+from invaders.lab.picture import BACKGROUND, Picture, Prompt, game_over_texts, hud_texts
 
 __all__ = ["CandidateWatch", "Renderer", "View", "game_over_texts", "hud_texts"]
 
@@ -82,9 +82,11 @@ class Renderer:
             self.picture.text(line, (SCREEN_W - 8 * len(line)) // 2, top + 16 * i)
 
     def draw_card(self, target: pygame.Surface, world: World, texts: list[tuple[str, int, int]],
-                  pictures: list[tuple[art.Art, int, int]]) -> None:
-        """A still screen of the attract cycle: the score bar, texts and pictures."""
-        self.picture.draw_card(world, texts, pictures)
+                  pictures: list[tuple[art.Art, int, int]], prompt: Prompt | None = None,
+                  ) -> None:
+        """A screen of the attract cycle (or the prompt before a game): the score bar,
+        texts and pictures."""
+        self.picture.draw_card(world, texts, pictures, prompt)
         self._present(target)
 
     def _present(self, target: pygame.Surface) -> View:

@@ -7,6 +7,8 @@ plain surface, which the window scales and the environment reads as an array.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import pygame
 
 from invaders.game import art
@@ -84,10 +86,12 @@ class Picture:
         return self.screen
 
     def draw_card(self, world: World, texts: list[tuple[str, int, int]],
-                  pictures: list[tuple[art.Art, int, int]]) -> pygame.Surface:
-        """A still screen of the attract cycle: the score bar, texts and pictures."""
+                  pictures: list[tuple[art.Art, int, int]],
+                  prompt: Prompt | None = None) -> pygame.Surface:
+        """A screen of the attract cycle (or the prompt before a game): the score bar,
+        texts and pictures."""
         self.screen.fill(BACKGROUND)
-        self._draw_hud(world)
+        self._draw_hud(world, prompt)
         for message, x, y in texts:
             self.text(message, x, y)
         for picture, x, y in pictures:
@@ -99,8 +103,8 @@ class Picture:
         self.screen.blit(self.gel, (0, 0), special_flags=pygame.BLEND_RGB_MULT)
         return self.screen
 
-    def _draw_hud(self, world: World) -> None:
-        for message, x, y in hud_texts(world):
+    def _draw_hud(self, world: World, prompt: Prompt | None = None) -> None:
+        for message, x, y in hud_texts(world, prompt):
             self.text(message, x, y)
         world.ground.to_surface(self.screen, setcolor=WHITE, unsetcolor=None,
                                 dest=(0, world.config.geometry.ground_row))
@@ -175,18 +179,30 @@ def game_over_texts(world: World) -> list[tuple[str, int, int]]:
     return [("GAME OVER"[:max(0, min(9, shown))], 72, 56)]
 
 
-def hud_texts(world: World) -> list[tuple[str, int, int]]:
+def hud_texts(world: World, prompt: Prompt | None = None) -> list[tuple[str, int, int]]:
     """The score bar and the bottom line as the original lays them out: the header with both
     players' scores (player 2's blank in a one-player game, 08E4; the player up's flashing
     while PLAY PLAYER<n> shows, 08A9-08CE), the high score (which changes only when a game
-    ends, 166D-1695), the ships left, and the credit count; no wave label."""
+    ends, 166D-1695), the ships left, and the credit count; no wave label. `prompt`: the
+    window's PLAY PLAYER<1> before a new game, whose scores are not the world's yet."""
     texts = [("SCORE<1> HI-SCORE SCORE<2>", 8, 8), (f"{world.hi_score:04d}", 88, 24)]
-    flashing = world.phase is Phase.SWITCH and world.phase_timer <= PROMPT and (
-        world.phase_timer & 4)
-    for number, (score, x) in enumerate(zip(world.scores(), (24, 168), strict=True), 1):
-        if score is not None and not (flashing and number == world.player):
+    if prompt is None:
+        scores, up = world.scores(), world.player
+        left = world.phase_timer if world.phase is Phase.SWITCH else PROMPT + 1
+    else:
+        scores, up, left = (0, 0 if prompt.players == 2 else None), 1, prompt.left
+    flashing = left <= PROMPT and left & 4  # (08B1: hidden while bit 2 of the delay is set)
+    for number, (score, x) in enumerate(zip(scores, (24, 168), strict=True), 1):
+        if score is not None and not (flashing and number == up):
             texts.append((f"{score:04d}", x, 24))
     return [*texts, (str(shown_ships(world)), 8, 240), ("CREDIT 00", 136, 240)]
+
+
+class Prompt(NamedTuple):
+    """PLAY PLAYER<1> before a new game: how many play, and the frames it has left."""
+
+    players: int
+    left: int
 
 
 def turn_texts(world: World) -> list[tuple[str, int, int]]:
