@@ -131,11 +131,14 @@ def test_the_attract_cycle_runs_its_steps_the_demo_until_its_cannon_dies_and_ent
             demo = app.attract.demo.world
             demo_ticks = demo.tick
             assert (demo.hi_score, demo.score) == (1230, 70)  # kept: the demo scores nothing
+        elif demo_ticks and kinds[-1] == "demo":
+            raise AssertionError("the demo step outlived its game")
         if len(kinds) > 2 and kinds[-1] == "wait" and kinds[-2] == "type" and not (
                 app.attract.animated):
             break  # into the second cycle's title
     assert kinds[:3] == ["wait", "type", "wait"] and "move" in kinds and "shoot" in kinds
     assert kinds.count("demo") == 1 and demo_ticks > 0
+    assert demo.ships == 2 and demo.cannon.state == 0  # it ended at its cannon's death
     assert world.tick == 0  # the player's world waits; the demo played in its own
     assert drawn < 60 * 200  # still frames are not drawn again
     app.step([_key(pygame.KEYDOWN, pygame.K_RETURN)], 0)
