@@ -175,3 +175,36 @@ def test_after_game_over_the_attract_cycle_comes_back_and_the_next_game_keeps_th
 def test_esc_quits_from_the_attract_cycle():
     app, _, _ = _app()
     assert app.step([_key(pygame.KEYDOWN, pygame.K_ESCAPE)], 0) == (False, False)
+
+
+def _stderr_of(code: str, env: dict[str, str] | None = None) -> str:
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=60, env=env, check=False).stderr
+
+
+def test_opening_the_mixer_without_a_sound_card_says_nothing():
+    """Bare, the mixer's probing prints ALSA's lines here (no sound card); ours prints none."""
+    bare = _stderr_of("import os; os.environ['PYGAME_HIDE_SUPPORT_PROMPT'] = '1'\n"
+                      "import pygame\ntry:\n    pygame.mixer.init(44100, -16, 1, 512)\n"
+                      "except pygame.error:\n    pass")
+    ours = _stderr_of("from invaders.app.sound import SoundBoard; SoundBoard()")
+    assert ours == ""
+    assert bare == "" or "ALSA" in bare  # (a machine with a sound card prints nothing)
+
+
+def test_a_display_naming_no_server_is_refused_in_our_one_line_only():
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("SDL_VIDEODRIVER", "WAYLAND_DISPLAY", "XDG_RUNTIME_DIR")}
+    env["DISPLAY"] = ":97"  # no X server there
+    script = str(Path(sys.executable).with_name("invaders"))
+    result = subprocess.run([script, "play", "--mute"], capture_output=True, text=True,
+                            timeout=60, env=env, check=False)
+    assert result.returncode == 2
+    assert result.stderr.count("\n") == 1 and result.stderr.startswith("invaders: error:")
+
+
+def test_the_c_librarys_stderr_comes_back_after_the_quiet_part():
+    code = ("import os, sys\nfrom invaders.app.quiet import c_stderr_quiet\n"
+            "with c_stderr_quiet():\n    os.write(2, b'chatter\\n')\n"
+            "os.write(2, b'after\\n'); print('python', file=sys.stderr)")
+    assert _stderr_of(code) == "after\npython\n"

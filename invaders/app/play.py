@@ -19,6 +19,7 @@ from invaders.app.attract import Attract, card, demo_world
 from invaders.app.labpanel import LabControl, PanelPainter, draw_marks, panel_width
 from invaders.app.loop import FixedStepLoop
 from invaders.app.outputs import writing
+from invaders.app.quiet import c_stderr_quiet
 from invaders.app.recording import Recorder
 from invaders.app.render import CandidateWatch, Renderer
 from invaders.app.signals import StopSignals
@@ -289,7 +290,8 @@ def open_window(scale: int, title: str = "invaders", lab: bool = False) -> pygam
     if (asked is None and sys.platform.startswith("linux")
             and not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY")):
         raise pygame.error("no display: neither DISPLAY nor WAYLAND_DISPLAY is set")
-    pygame.display.init()
+    with c_stderr_quiet():  # (SDL's drivers probed in turn say why each is not there)
+        pygame.display.init()
     driver = pygame.display.get_driver()
     if driver in NO_WINDOW_DRIVERS and asked != driver:
         pygame.display.quit()

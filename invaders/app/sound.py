@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 import pygame
 
+from invaders.app.quiet import c_stderr_quiet
 from invaders.game.entities import CannonState
 from invaders.game.events import Event
 from invaders.game.world import Phase
@@ -85,7 +86,8 @@ class SoundBoard:
         self._march_timer = 0  # frames to the next note
         self._saucer_channel: pygame.mixer.Channel | None = None
         try:
-            pygame.mixer.init(RATE, -16, 1, 512)
+            with c_stderr_quiet():  # (ALSA's lines without a sound card)
+                pygame.mixer.init(RATE, -16, 1, 512)
         except pygame.error:
             return  # no audio device: silent, and nothing to say about it
         self.sounds = {name: pygame.mixer.Sound(buffer=wave.tobytes())
