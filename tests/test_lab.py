@@ -317,3 +317,25 @@ def test_the_panels_counts_add_up_while_contacts_are_still_touching():
         assert true == on_time + count["missed"] + count["late"]
         seen_touching |= "now" in head
     assert seen_touching and true > 5
+
+
+@pytest.mark.parametrize("scale", [1, 2, 3])
+def test_every_line_of_the_panel_shows_whole_and_legible_at_every_scale(scale):
+    import time
+
+    from invaders.app.labpanel import LEGIBLE_PX, LabControl, PanelPainter, panel_lines, panel_width
+
+    world = World(seed=1)
+    control = LabControl(world, time.perf_counter)
+    area = pygame.Rect(224 * scale, 0, panel_width(scale), 256 * scale)
+    target = pygame.Surface((area.right, area.h))
+    placed = PanelPainter().draw(target, area, control, scale)
+    assert [text for text, _, _ in placed] == [text for text, _ in panel_lines(control)]
+    assert all(area.contains(rect) for _, rect, _ in placed)
+    assert min(size for _, _, size in placed) >= LEGIBLE_PX
+    rows: dict[int, list[pygame.Rect]] = {}
+    for _, rect, _ in placed:  # side by side in a row, never over one another
+        rows.setdefault(rect.top, []).append(rect)
+    assert all(not a.colliderect(b) for row in rows.values() for i, a in enumerate(row)
+               for b in row[i + 1:])
+    assert len(rows) * max(len(row) for row in rows.values()) >= len(placed)

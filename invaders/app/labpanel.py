@@ -15,7 +15,7 @@ import pygame
 
 from invaders.app.recording import Recorder
 from invaders.app.render import View
-from invaders.game.config import GameConfig
+from invaders.game.config import SCREEN_H, GameConfig
 from invaders.game.world import World
 from invaders.lab.choices import CELLED
 from invaders.lab.live import DEFAULT_CHOICE, MARK_TICKS, Choice, LabDetector, install
@@ -40,6 +40,9 @@ PANEL_PX_PER_SCALE = 112  # the panel is half a playfield wide,
 PANEL_MIN_PX = 260  # and never too narrow for its lines at the smallest text
 PANEL_TEXT_PX = 14  # the text's size at the smallest scales,
 MIN_TEXT_PX = 8  # and how small it may get to fit a short window
+LEGIBLE_PX = 12  # below this, two columns rather than smaller text
+TWO_COLUMNS_PX = 430  # a panel wide enough for two columns of legible text
+ONE_COLUMN_MIN_H = 400  # a playfield shorter than this (scale 1) needs the two columns
 
 
 class LabControl:
@@ -93,6 +96,9 @@ class LabControl:
 
 
 def panel_width(scale: float) -> int:
+    """Half a playfield wide; at the smallest scales, wide enough for two columns."""
+    if SCREEN_H * scale < ONE_COLUMN_MIN_H:
+        return TWO_COLUMNS_PX
     return max(PANEL_MIN_PX, round(PANEL_PX_PER_SCALE * scale))
 
 
@@ -154,24 +160,45 @@ class PanelPainter:
         return font
 
     def draw(self, target: pygame.Surface, area: pygame.Rect, control: LabControl,
-             scale: float) -> None:
+             scale: float) -> list[tuple[str, pygame.Rect, int]]:
         """The panel in `area`, its text as large as the scale asks and small enough for
-        every line to fit, across and down."""
+        every line to fit, across and down (in two columns where one would need text below
+        legible). Returns each line, where it went, and the text's size."""
         target.fill(PANEL_BACKGROUND, area)
         lines = panel_lines(control)
-        widest = max((text for text, _ in lines), key=len)
-        size = max(PANEL_TEXT_PX, round(4.2 * scale))
-        while True:
-            font = self.font(size)
-            pad = max(4, size // 2)
-            if size <= MIN_TEXT_PX or (font.get_linesize() * len(lines) + 2 * pad <= area.h
-                                       and font.size(widest)[0] + 2 * pad <= area.w):
-                break
-            size -= 1
-        y = area.y + pad
-        for text, colour in lines:
-            target.blit(font.render(text, True, colour), (area.x + pad, y))
-            y += font.get_linesize()
+        size, columns = self._layout([text for text, _ in lines], area, scale)
+        font = self.font(size)
+        pad = max(4, size // 2)
+        per_column = -(-len(lines) // columns)
+        width = (area.w - pad) // columns
+        placed = []
+        for number, (text, colour) in enumerate(lines):
+            column, row = divmod(number, per_column)
+            at = (area.x + pad + column * width, area.y + pad + row * font.get_linesize())
+            rendered = font.render(text, True, colour)
+            target.blit(rendered, at)
+            placed.append((text, rendered.get_rect(topleft=at), size))
+        return placed
+
+    def _layout(self, texts: list[str], area: pygame.Rect, scale: float) -> tuple[int, int]:
+        """The text size and how many columns: the largest size that fits in one column,
+        or, if that is below legible, in two."""
+        best = (MIN_TEXT_PX, 1)
+        for columns in (1, 2):
+            per_column = -(-len(texts) // columns)
+            widest = max(texts, key=len)
+            size = max(PANEL_TEXT_PX, round(4.2 * scale))
+            while size > MIN_TEXT_PX:
+                font = self.font(size)
+                pad = max(4, size // 2)
+                if (font.get_linesize() * per_column + 2 * pad <= area.h
+                        and columns * (font.size(widest)[0] + pad) + pad <= area.w):
+                    break
+                size -= 1
+            if size >= LEGIBLE_PX:
+                return size, columns
+            best = max(best, (size, columns))
+        return best
 
 
 def draw_marks(target: pygame.Surface, view: View, control: LabControl) -> None:
