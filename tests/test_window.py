@@ -4,12 +4,16 @@ presses are never lost, a replay's end is shown with its verdict, and without a 
 
 from __future__ import annotations
 
+import json
 import os
+import shutil
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pygame
+import pytest
 
 from invaders.app.recording import Recorder, record_headless
 from invaders.game.actions import Action
@@ -208,3 +212,106 @@ def test_the_c_librarys_stderr_comes_back_after_the_quiet_part():
             "with c_stderr_quiet():\n    os.write(2, b'chatter\\n')\n"
             "os.write(2, b'after\\n'); print('python', file=sys.stderr)")
     assert _stderr_of(code) == "after\npython\n"
+
+
+def _display_session(scale: int):
+    """A session drawing into the display's own window (on the dummy driver)."""
+    from invaders.app.play import Session, open_window
+    from tests.helpers import FakeClock
+
+    window = open_window(scale)
+    return Session(World(seed=0), window, FakeClock(), scale=scale)
+
+
+def test_f11_fills_the_screen_and_brings_the_window_back_at_its_own_size_and_place():
+    session = _display_session(2)
+    place = pygame.display.get_window_position()
+    session.handle(_key(pygame.KEYDOWN, pygame.K_F11))
+    assert pygame.display.is_fullscreen()
+    assert session.target.get_size() == pygame.display.get_desktop_sizes()[0]
+    session.handle(_key(pygame.KEYDOWN, pygame.K_F11))
+    assert not pygame.display.is_fullscreen()
+    assert session.target.get_size() == (448, 512)
+    assert pygame.display.get_window_position() == place
+    pygame.display.quit()
+
+
+def test_f4_widens_the_window_where_it_stands_and_never_past_the_screen():
+    from invaders.app.labpanel import panel_width
+    from invaders.app.play import fit_beside_panel
+
+    session = _display_session(2)
+    place = pygame.display.get_window_position()
+    session.handle(_key(pygame.KEYDOWN, pygame.K_F4))
+    assert session.target.get_size() == (448 + panel_width(2), 512)
+    assert pygame.display.get_window_position() == place
+    session.handle(_key(pygame.KEYDOWN, pygame.K_F4))
+    assert session.target.get_size() == (448, 512)
+    pygame.display.quit()
+    session = _display_session(3)  # 672 + 336 across a 1024-px screen: it fits
+    session.handle(_key(pygame.KEYDOWN, pygame.K_F4))
+    assert session.target.get_size() == (672 + panel_width(3), 768)
+    pygame.display.quit()
+    w, h = fit_beside_panel(1120, 1280, 1024)  # scale 5 on that screen: made smaller
+    assert w + panel_width(h / 256) <= 1024 and abs(w / h - 224 / 256) < 0.01
+    bigger = h + 1  # the largest that fits: one row more would not
+    assert round(bigger * 224 / 256) + panel_width(bigger / 256) > 1024
+
+
+XVFB_CHILD = """
+import json, time, pygame
+from invaders.app.play import Session, open_window
+from invaders.game.world import World
+window = open_window(3)
+session = Session(World(seed=0), window, time.perf_counter, scale=3)
+def now():
+    for _ in range(20):
+        pygame.event.pump()
+        time.sleep(0.02)
+    return [pygame.display.get_window_size(), pygame.display.get_window_position(),
+            pygame.display.is_fullscreen()]
+seen = [now()]
+for key in (pygame.K_F11, pygame.K_F11, pygame.K_F4):
+    session.handle(pygame.event.Event(pygame.KEYDOWN, key=key, mod=0, unicode="", scancode=0))
+    seen.append(now())
+print(json.dumps(seen))
+"""
+
+
+def _x_server():
+    """An Xvfb display (1280x1024), with openbox as its window manager where installed."""
+    if shutil.which("Xvfb") is None:
+        pytest.skip("Xvfb is not installed (apt-get install xvfb openbox): no real X server")
+    for number in range(71, 99):
+        if not Path(f"/tmp/.X11-unix/X{number}").exists():
+            break
+    server = subprocess.Popen(["Xvfb", f":{number}", "-screen", "0", "1280x1024x24"],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    env = {k: v for k, v in os.environ.items() if k not in ("SDL_VIDEODRIVER", "WAYLAND_DISPLAY")}
+    env["DISPLAY"] = f":{number}"
+    for _ in range(100):
+        if Path(f"/tmp/.X11-unix/X{number}").exists():
+            break
+        time.sleep(0.05)
+    manager = (subprocess.Popen(["openbox"], env=env, stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL) if shutil.which("openbox") else None)
+    time.sleep(0.5)
+    return server, manager, env
+
+
+def test_in_a_real_x_server_f11_comes_back_to_the_windows_place_and_f4_stays_there():
+    server, manager, env = _x_server()
+    try:
+        result = subprocess.run([sys.executable, "-c", XVFB_CHILD], capture_output=True,
+                                text=True, timeout=120, env=env, check=False)
+    finally:
+        for process in (manager, server):
+            if process is not None:
+                process.terminate()
+                process.wait(10)
+    assert result.returncode == 0, result.stderr
+    assert "Warning" not in result.stderr  # (pygame's toggle_fullscreen warned each time)
+    start, full, back, panel = json.loads(result.stdout)
+    assert start[0] == [672, 768] and full == [[1280, 1024], [0, 0], True]
+    assert back == start
+    assert panel[0][0] > 672 and panel[1] == start[1] and panel[0][0] <= 1280

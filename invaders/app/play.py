@@ -63,6 +63,15 @@ def keyboard_actions(pressed) -> int:
     return int(bits)
 
 
+def fit_beside_panel(w: int, h: int, screen_w: int) -> tuple[int, int]:
+    """The playfield's size (w, h) made smaller, its shape kept, until it and the lab's
+    panel fit across a screen `screen_w` wide."""
+    while w + panel_width(h / SCREEN_H) > screen_w and h > SCREEN_H:
+        h -= 1
+        w = round(h * SCREEN_W / SCREEN_H)
+    return w, h
+
+
 class Session:
     """A game in a window: one `frame()` per displayed frame."""
 
@@ -89,6 +98,7 @@ class Session:
         self.start_pressed = False
         self.start_bits = START  # START2 once 2 was pressed: the next game has two players
         self.needs_draw = True  # something besides a tick changed what the window shows
+        self.windowed: tuple[tuple[int, int], tuple[int, int]] | None = None  # before F11
         self.tick_rate = world.config.tick_hz * speed
         self.recorder = recorder
         self.watch = CandidateWatch()
@@ -159,20 +169,43 @@ class Session:
                 self.sounds.toggle_mute()
             elif event.key == pygame.K_F11:
                 with contextlib.suppress(pygame.error):  # a driver that cannot: stay as is
-                    pygame.display.toggle_fullscreen()
+                    self._toggle_fullscreen()
                 self._follow_window()
         return True
 
-    def _resize_for_panel(self, opening: bool) -> None:
-        """Widen the window by the panel (or narrow it back), unless it fills the screen."""
-        window = pygame.display.get_surface() if pygame.display.get_init() else None
-        if window is None or window is not self.target or (
-                window.get_flags() & pygame.FULLSCREEN):
+    def _own_window(self) -> bool:
+        """Whether the target is the window (not a surface a test or a screenshot gave)."""
+        return pygame.display.get_init() and pygame.display.get_surface() is self.target
+
+    def _toggle_fullscreen(self) -> None:
+        """Full screen at the desktop's size, then back to the window's own size and place
+        (pygame's toggle_fullscreen re-creates the window and keeps neither)."""
+        if not self._own_window():
             return
-        w, h = window.get_size()
-        extra = panel_width(h / SCREEN_H)
-        width = w + extra if opening else max(SCREEN_W, w - extra)
+        if pygame.display.is_fullscreen():
+            size, place = self.windowed or (self.target.get_size(), None)
+            pygame.display.set_mode(size, pygame.RESIZABLE)
+            if place is not None:
+                pygame.display.set_window_position(place)
+        else:
+            self.windowed = (pygame.display.get_window_size(),
+                             pygame.display.get_window_position())
+            pygame.display.set_mode((0, 0), pygame.FULLSCREEN)
+
+    def _resize_for_panel(self, opening: bool) -> None:
+        """Widen the window by the panel (or narrow it back) where it stands, never past the
+        screen's width (the playfield made smaller if it must), unless it fills the screen."""
+        if not self._own_window() or pygame.display.is_fullscreen():
+            return
+        w, h = self.target.get_size()
+        place = pygame.display.get_window_position()
+        if opening:
+            w, h = fit_beside_panel(w, h, pygame.display.get_desktop_sizes()[0][0])
+            width = w + panel_width(h / SCREEN_H)
+        else:
+            width = max(SCREEN_W, w - panel_width(h / SCREEN_H))
         self.target = pygame.display.set_mode((width, h), pygame.RESIZABLE)
+        pygame.display.set_window_position(place)
 
     def _follow_window(self) -> None:
         """Draw into the window's surface as it is now (resizing can replace it)."""
