@@ -96,9 +96,11 @@ class Renderer:
         if target.get_size() == screen.get_size():
             target.blit(screen, (0, 0))
         else:  # the game's aspect kept, black borders around it
-            target.fill(BACKGROUND)
-            size = (round(SCREEN_W * view.scale), round(SCREEN_H * view.scale))
-            target.blit(pygame.transform.scale(screen, size), (view.x, view.y))
+            place = pygame.Rect(view.x, view.y, round(SCREEN_W * view.scale),
+                                round(SCREEN_H * view.scale))
+            if place.size != target.get_size():
+                target.fill(BACKGROUND)
+            pygame.transform.scale(screen, place.size, target.subsurface(place))  # in place
         return view
 
     def _draw_overlay(self, target: pygame.Surface, view: View, world: World,
