@@ -315,3 +315,31 @@ def test_in_a_real_x_server_f11_comes_back_to_the_windows_place_and_f4_stays_the
     assert start[0] == [672, 768] and full == [[1280, 1024], [0, 0], True]
     assert back == start
     assert panel[0][0] > 672 and panel[1] == start[1] and panel[0][0] <= 1280
+
+
+def test_bench_window_needs_a_display_and_says_so_in_one_line():
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER")}
+    script = str(Path(sys.executable).with_name("invaders"))
+    result = subprocess.run([script, "bench", "--window", "--rounds", "3"], capture_output=True,
+                            text=True, timeout=60, env=env, check=False)
+    assert result.returncode == 2 and result.stderr.count("\n") == 1
+    assert "needs a display" in result.stderr
+
+
+def test_bench_window_times_both_ways_of_showing_the_window_in_a_real_x_server():
+    server, manager, env = _x_server()
+    code = ("from invaders.app.windowbench import window_bench\n"
+            "print('\\n'.join(window_bench(rounds=1, seconds=1)))")
+    try:
+        result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                                timeout=120, env=env, check=False)
+    finally:
+        for process in (manager, server):
+            if process is not None:
+                process.terminate()
+                process.wait(10)
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert len(lines) == 4 and "native framebuffer" in lines[1] and "renderer" in lines[2]
+    assert all("frames a second" in line for line in lines[1:3])

@@ -207,6 +207,9 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     bench.add_argument("--env", action="store_true",
                        help="instead, the Gymnasium environment against ALE's, step for step "
                             "(needs the rl extra; ALE with the compare extra)")
+    bench.add_argument("--window", action="store_true",
+                       help="instead, a game in a real window: CPU seconds a second through "
+                            "SDL's native framebuffer and through a renderer (needs a display)")
     bench.add_argument("--against", metavar="REV",
                        help="instead, this tree's game speed against a git revision's "
                             "(checked out in a temporary worktree), game by game in turn")
@@ -339,6 +342,15 @@ def cmd_replay(args: argparse.Namespace) -> int:
 
 def cmd_bench(args: argparse.Namespace) -> int:
     from invaders.app.headless import use_dummy_drivers
+
+    if args.window:  # (before the dummy drivers: this one needs the real display)
+        from invaders.app.windowbench import NoWindow, window_bench
+
+        try:
+            print("\n".join(window_bench(args.rounds)))
+        except NoWindow as err:
+            raise UsageError(str(err)) from None
+        return 0
 
     use_dummy_drivers()
     from invaders.lab.bench import BenchFailure, bench

@@ -1,0 +1,80 @@
+"""`invaders bench --window`: what a game costs in a real window, as CPU seconds a second.
+
+Each round plays the autopilot's game in a window for some seconds twice, in fresh processes
+taking turns: SDL showing the window's surface through the native framebuffer (what the
+program does) and through a renderer (SDL's default where a renderer exists, which without
+a GPU draws the whole window in software every frame). Printed as medians over the rounds
+with their spread, and the frames a second each held.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import statistics
+import subprocess
+import sys
+
+PATHS = (("native framebuffer", "0"), ("renderer", "1"))
+
+CHILD = """
+import json, sys, time, pygame
+from invaders.app.play import Session, open_window
+from invaders.game.world import World
+from invaders.lab.autopilot import Autopilot
+seconds, scale = float(sys.argv[1]), int(sys.argv[2])
+window = open_window(scale)
+world = World(seed=3)
+session = Session(world, window, time.perf_counter, scale, pilot=Autopilot(3))
+clock = pygame.time.Clock()
+for _ in range(30):  # settle: the window mapped, the first frames drawn
+    pygame.event.pump(); session.frame(0) and pygame.display.flip(); clock.tick(60)
+start, cpu, frames = time.perf_counter(), time.process_time(), 0
+while time.perf_counter() - start < seconds:
+    pygame.event.pump()
+    if session.frame(0):
+        pygame.display.flip()
+        frames += 1
+    clock.tick(60)
+wall = time.perf_counter() - start
+print(json.dumps([(time.process_time() - cpu) / wall, frames / wall]))
+"""
+
+
+class NoWindow(RuntimeError):
+    """There is no display to open a window on."""
+
+
+def _one(acceleration: str, seconds: float, scale: int) -> tuple[float, float]:
+    env = {k: v for k, v in os.environ.items() if k != "SDL_VIDEODRIVER"}
+    env["SDL_FRAMEBUFFER_ACCELERATION"] = acceleration
+    result = subprocess.run([sys.executable, "-c", CHILD, str(seconds), str(scale)],
+                            capture_output=True, text=True, env=env, check=False,
+                            timeout=seconds * 4 + 60)
+    if result.returncode != 0:
+        last = (result.stderr.strip().splitlines() or ["no output"])[-1]
+        raise NoWindow(f"the window could not be timed: {last}")
+    cpu, fps = json.loads(result.stdout)
+    return cpu, fps
+
+
+def window_bench(rounds: int, seconds: float = 10.0, scale: int = 3) -> list[str]:
+    """The table's lines: each path's CPU seconds a second and frames a second."""
+    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        raise NoWindow("--window needs a display (DISPLAY or WAYLAND_DISPLAY)")
+    seen: dict[str, list[tuple[float, float]]] = {name: [] for name, _ in PATHS}
+    for _ in range(rounds):
+        for name, acceleration in PATHS:
+            seen[name].append(_one(acceleration, seconds, scale))
+    lines = [f"a game at scale {scale} in a window, {rounds} rounds of {seconds:g} s taking "
+             "turns: CPU seconds a second, median (lowest..highest round), frames a second"]
+    for name, _ in PATHS:
+        cpu = [c for c, _ in seen[name]]
+        fps = statistics.median(f for _, f in seen[name])
+        lines.append(f"   {name:<20} {statistics.median(cpu):.3f} ({min(cpu):.3f}.."
+                     f"{max(cpu):.3f})   {fps:.1f} frames a second")
+    ratios = [r / n for (n, _), (r, _) in zip(seen["native framebuffer"], seen["renderer"],
+                                                strict=True)]
+    lines.append(f"   the renderer costs {statistics.median(ratios):.1f}x "
+                 f"({min(ratios):.1f}..{max(ratios):.1f}) the native framebuffer's CPU")
+    return lines
