@@ -4,6 +4,7 @@ presses are never lost, a replay's end is shown with its verdict, and without a 
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import shutil
@@ -278,8 +279,10 @@ print(json.dumps(seen))
 """
 
 
+@contextlib.contextmanager
 def _x_server():
-    """An Xvfb display (1280x1024), with openbox as its window manager where installed."""
+    """An Xvfb display (1280x1024), with openbox as its window manager where installed: the
+    environment to run in it."""
     if shutil.which("Xvfb") is None:
         pytest.skip("Xvfb is not installed (apt-get install xvfb openbox): no real X server")
     for number in range(71, 99):
@@ -296,19 +299,19 @@ def _x_server():
     manager = (subprocess.Popen(["openbox"], env=env, stdout=subprocess.DEVNULL,
                                 stderr=subprocess.DEVNULL) if shutil.which("openbox") else None)
     time.sleep(0.5)
-    return server, manager, env
-
-
-def test_in_a_real_x_server_f11_comes_back_to_the_windows_place_and_f4_stays_there():
-    server, manager, env = _x_server()
     try:
-        result = subprocess.run([sys.executable, "-c", XVFB_CHILD], capture_output=True,
-                                text=True, timeout=120, env=env, check=False)
+        yield env
     finally:
         for process in (manager, server):
             if process is not None:
                 process.terminate()
                 process.wait(10)
+
+
+def test_in_a_real_x_server_f11_comes_back_to_the_windows_place_and_f4_stays_there():
+    with _x_server() as env:
+        result = subprocess.run([sys.executable, "-c", XVFB_CHILD], capture_output=True,
+                                text=True, timeout=120, env=env, check=False)
     assert result.returncode == 0, result.stderr
     assert "Warning" not in result.stderr  # (pygame's toggle_fullscreen warned each time)
     start, full, back, panel = json.loads(result.stdout)
@@ -328,17 +331,11 @@ def test_bench_window_needs_a_display_and_says_so_in_one_line():
 
 
 def test_bench_window_times_both_ways_of_showing_the_window_in_a_real_x_server():
-    server, manager, env = _x_server()
     code = ("from invaders.app.windowbench import window_bench\n"
             "print('\\n'.join(window_bench(rounds=1, seconds=1)))")
-    try:
+    with _x_server() as env:
         result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                                 timeout=120, env=env, check=False)
-    finally:
-        for process in (manager, server):
-            if process is not None:
-                process.terminate()
-                process.wait(10)
     assert result.returncode == 0, result.stderr
     lines = result.stdout.splitlines()
     assert len(lines) == 4 and "native framebuffer" in lines[1] and "renderer" in lines[2]
