@@ -358,3 +358,18 @@ def test_the_reward_is_the_points_scored_across_the_counters_wrap_at_10000():
     world.step = scoring_step
     _, reward, *_ = env.step(0)
     assert world.score == 20 and reward == 30.0
+
+
+def test_the_shrink_runs_blas_on_one_thread_and_gives_it_back_after():
+    from threadpoolctl import threadpool_info
+
+    from invaders.env.observations import one_blas_thread
+
+    def threads():
+        return [info["num_threads"] for info in threadpool_info() if info["user_api"] == "blas"]
+
+    before = threads()
+    assert before  # (numpy's BLAS is loaded)
+    with one_blas_thread():
+        assert threads() == [1] * len(before)
+    assert threads() == before

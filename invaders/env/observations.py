@@ -10,6 +10,8 @@ multiply blend gives (a test holds the two equal pixel for pixel).
 
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 import pygame
 
@@ -17,6 +19,13 @@ from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.entities import FOOTPRINT_ABOVE, CannonState
 from invaders.game.world import World
 from invaders.lab.picture import Picture
+
+try:  # (optional: the rl extra installs it)
+    from threadpoolctl import ThreadpoolController
+
+    _blas: ThreadpoolController | None = ThreadpoolController()
+except ImportError:
+    _blas = None
 
 ACTIVE = CannonState.ACTIVE
 # ITU-R BT.601 luma, in integers: the grey a monochrome monitor would show for each colour.
@@ -99,6 +108,16 @@ def area_weights(size_in: int, size_out: int) -> np.ndarray:
     return weights
 
 
+def one_blas_thread() -> contextlib.AbstractContextManager:
+    """BLAS on one thread while inside: the shrink's products are small, and on every core's
+    threads in each of a vector's worker processes they oversubscribe the machine (ours in
+    Gymnasium's async vector ran 5x slower). Needs threadpoolctl (the rl extra); without it,
+    BLAS is left as it is."""
+    if _blas is None:
+        return contextlib.nullcontext()
+    return _blas.limit(limits=1, user_api="blas")
+
+
 class Shrink:
     """A grey picture made smaller by area averaging, in arrays kept between steps: two
     matrix products and a rounding, nothing allocated."""
@@ -114,8 +133,9 @@ class Shrink:
 
     def __call__(self, grey: np.ndarray) -> np.ndarray:
         np.copyto(self._grey, grey)
-        np.matmul(self.rows, self._grey, out=self._half)
-        np.matmul(self._half, self.cols, out=self._small)
+        with one_blas_thread():
+            np.matmul(self.rows, self._grey, out=self._half)
+            np.matmul(self._half, self.cols, out=self._small)
         np.add(self._small, 0.5, out=self._small)  # rounded to nearest, not down
         np.copyto(self.out, self._small, casting="unsafe")
         return self.out
