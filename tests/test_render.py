@@ -229,3 +229,19 @@ def test_the_gel_is_mames_overlay_red_rows_32_to_61_green_below_and_x_16_to_133(
     assert gel.get_at((0, 183))[:3] == (255, 255, 255) and gel.get_at((0, 184))[:3] == GREEN_GEL
     assert [gel.get_at((x, 245))[:3] == GREEN_GEL for x in (15, 16, 133, 134)] == [
         False, True, True, False]
+
+
+def test_a_screenshot_of_the_attract_cycle_is_its_still_pixel_for_pixel_and_says_so(
+        tmp_path, capsys):
+    from invaders.app.attract import card
+    from invaders.game.world import World
+
+    path = tmp_path / "pull.png"
+    capsys.readouterr()
+    assert main(["play", "--screenshot", str(path), "--attract", "pull", "--scale", "1"]) == 0
+    assert capsys.readouterr().out == f"saved {path}: the attract cycle's pull\n"
+    texts, pictures = card("pull")
+    expected = pygame.Surface((224, 256))
+    Renderer(1).draw_card(expected, World(seed=0), texts, pictures)
+    image = pygame.image.load(str(path))
+    assert pygame.image.tobytes(image, "RGB") == pygame.image.tobytes(expected, "RGB")

@@ -536,5 +536,7 @@ def screenshot(path: str, seed: int = 0, ticks: int = 600, scale: int = 3,
     pygame.image.save(target, png, "screenshot.png")
     with writing(path, "screenshot"), atomic_writer(path, "wb") as handle:
         handle.write(png.getvalue())
-    print(f"saved {path} after {ticks} ticks (seed {seed})")
+    moment = (f"the attract cycle's {attract}" if attract is not None
+              else f"after {ticks} ticks (seed {seed})")
+    print(f"saved {path}: {moment}")
     return 0
