@@ -90,13 +90,17 @@ def _vector_stepper(mode: str, n: int) -> Callable[[int], float]:
     """Seconds for k batch steps of n games (84x84 grey, 4 stacked), autoreset inside."""
     envs = gymnasium.make_vec(ENV_ID, num_envs=n, vectorization_mode=mode, **VECTOR_OPTIONS)
     envs.reset(seed=0)
-    batches = [np.full(n, action) for action in CYCLE]
+    return _batch_timer(envs.step, [np.full(n, action) for action in CYCLE])
 
+
+def _batch_timer(step: Callable[[np.ndarray], Any], batches: list[np.ndarray]
+                 ) -> Callable[[int], float]:
+    """Seconds for k batch steps, the actions cycling through `batches`."""
     def run(k: int) -> float:
         with no_gc():
             start = time.perf_counter()
             for i in range(k):
-                envs.step(batches[i % len(batches)])
+                step(batches[i % len(batches)])
             return time.perf_counter() - start
 
     return run
@@ -131,16 +135,7 @@ def _envpool_stepper(n: int) -> Callable[[int], float] | None:
                         num_threads=n, img_height=84, img_width=84, stack_num=4,
                         gray_scale=True, frame_skip=4, repeat_action_probability=0.25)
     pool.reset()
-    batches = [np.full(n, action, dtype=np.int32) for action in CYCLE]
-
-    def run(k: int) -> float:
-        with no_gc():
-            start = time.perf_counter()
-            for i in range(k):
-                pool.step(batches[i % len(batches)])
-            return time.perf_counter() - start
-
-    return run
+    return _batch_timer(pool.step, [np.full(n, action, dtype=np.int32) for action in CYCLE])
 
 
 def _envpool_row(rounds: int) -> int:
