@@ -109,16 +109,24 @@ def _batch_timer(step: Callable[[np.ndarray], Any], batches: list[np.ndarray]
 def _vector_rows(rounds: int) -> int:
     """8 games in one process: the native batch against the sync vector; 1 if missed."""
     n = 8
-    runs = {"native": _vector_stepper("vector_entry_point", n),
-            "sync": _vector_stepper("sync", n)}
+    runs = {"native batch": _vector_stepper("vector_entry_point", n),
+            "sync vector": _vector_stepper("sync", n)}
+    missed = _batch_row(f"{n} games, 84x84 grey x4:", runs, n, rounds, VECTOR_GOAL)
+    return missed + _envpool_row(rounds)
+
+
+def _batch_row(label: str, runs: dict[str, Callable[[int], float]], n: int, rounds: int,
+               goal: float) -> int:
+    """One line: two batch contenders' steps a second (n games a batch step), the first's
+    ratio to the second's against the goal; 1 if missed."""
     rates = {who: [n * r for r in rate] for who, rate in _rates(runs, rounds).items()}
-    ratios = [a / b for a, b in zip(rates["native"], rates["sync"], strict=True)]
-    met = statistics.median(ratios) >= VECTOR_GOAL
-    print(f"   {n} games, 84x84 grey x4: native batch {_figure(rates['native'])}   "
-          f"sync vector {_figure(rates['sync'])}   {statistics.median(ratios):.2f}x "
-          f"({min(ratios):.2f}..{max(ratios):.2f})   goal >= {VECTOR_GOAL}x: "
-          f"{'met' if met else 'NOT met'}")
-    return (0 if met else 1) + _envpool_row(rounds)
+    ours, theirs = rates
+    ratios = [a / b for a, b in zip(rates[ours], rates[theirs], strict=True)]
+    met = statistics.median(ratios) >= goal
+    print(f"   {label} {ours} {_figure(rates[ours])}   {theirs} {_figure(rates[theirs])}   "
+          f"{statistics.median(ratios):.2f}x ({min(ratios):.2f}..{max(ratios):.2f})   "
+          f"goal >= {goal:g}x: {'met' if met else 'NOT met'}")
+    return 0 if met else 1
 
 
 ENVPOOL_GOAL = 2.0  # ours against EnvPool, as many games and workers as cores on both sides
@@ -146,15 +154,9 @@ def _envpool_row(rounds: int) -> int:
     if theirs is None:
         print("   EnvPool not timed: not installed (pip install envpool; ALE in C++ threads)")
         return 0
-    runs = {"ours": _vector_stepper("async", n), "EnvPool": theirs}
-    rates = {who: [n * r for r in rate] for who, rate in _rates(runs, rounds).items()}
-    ratios = [a / b for a, b in zip(rates["ours"], rates["EnvPool"], strict=True)]
-    met = statistics.median(ratios) >= ENVPOOL_GOAL
-    print(f"   {n} games on {n} workers, 84x84 grey x4: ours (async) {_figure(rates['ours'])}"
-          f"   EnvPool {_figure(rates['EnvPool'])}   {statistics.median(ratios):.2f}x "
-          f"({min(ratios):.2f}..{max(ratios):.2f})   goal >= {ENVPOOL_GOAL:g}x: "
-          f"{'met' if met else 'NOT met'}")
-    return 0 if met else 1
+    runs = {"ours (async)": _vector_stepper("async", n), "EnvPool": theirs}
+    return _batch_row(f"{n} games on {n} workers, 84x84 grey x4:", runs, n, rounds,
+                      ENVPOOL_GOAL)
 
 
 def _rates(runs: dict[str, Callable[[int], float]], rounds: int) -> dict[str, list[float]]:
