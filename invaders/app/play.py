@@ -376,16 +376,22 @@ class App:
         session = self.session
         world = session.world
         if world.tick == 0 and world.players != players and session.recorder is None:
-            fresh = World(seed=world.seed, broadphase=self.broadphase, players=players)
-            lab = session.lab.choice if session.lab_open and session.lab else None
-            self.session = session = Session(fresh, session.target, self.clock, self.scale,
-                                             overlay=session.overlay, sounds=session.sounds,
-                                             lab=lab)
+            session = self._fresh_session(players)
             if self.attract is not None:
-                self.attract.scores = fresh
+                self.attract.scores = session.world
         session.start_bits = START2 if players == 2 else START
         self.prompt_players = players
         self.prompted: Prompt | None = None
+
+    def _fresh_session(self, players: int) -> Session:
+        """A new world of the same seed in a new session, in the same window with the same
+        overlay, sound and lab: the one the window now shows."""
+        old = self.session
+        lab = old.lab.choice if old.lab_open and old.lab else None
+        world = World(seed=old.world.seed, broadphase=self.broadphase, players=players)
+        self.session = Session(world, old.target, self.clock, self.scale, overlay=old.overlay,
+                               sounds=old.sounds, lab=lab)
+        return self.session
 
     def _prompt_frame(self) -> bool:
         """A frame of PLAY PLAYER<1>; when its time is up, the game. Returns whether it drew."""
@@ -447,11 +453,7 @@ class App:
         drew = self.session.frame(held, stop)
         world = self.session.world
         if self.session.start_requested:  # Enter at a replay's end: a game of one's own
-            fresh = World(seed=world.seed, broadphase=self.broadphase)
-            lab = self.session.lab.choice if self.session.lab_open and self.session.lab else None
-            self.session = Session(fresh, self.session.target, self.clock, self.scale,
-                                   overlay=self.session.overlay, sounds=self.session.sounds,
-                                   lab=lab)
+            self._fresh_session(1)
             pygame.display.set_caption("invaders  (arrows/A D move, space fires, "
                                        "P pause, F3 overlay, F4 lab)")
         elif (self.attract is not None and world.tick > before

@@ -154,9 +154,7 @@ class World:
         cfg = self.config
         g = cfg.geometry
         store = self.store
-        for kind in THINGS:  # the edges stay
-            for body in list(store.by_kind[kind]):
-                store.remove(body)
+        self._clear_field()
         self.phase = PLAYING
         self.phase_timer = 0
         self.rack = rack
@@ -175,6 +173,12 @@ class World:
         self.saucer = saucer.SaucerState(timer=cfg.timing.saucer_timer)
         self.shots_removed = 0
         self.explosions: list[Explosion] = []
+
+    def _clear_field(self) -> None:
+        """Every thing out of the store (the playfield's edges stay)."""
+        for kind in THINGS:
+            for body in list(self.store.by_kind[kind]):
+                self.store.remove(body)
 
     def _cannon_wait(self) -> None:
         self.respawning = False  # a wave's start (a death sets it after this)
@@ -279,7 +283,7 @@ class World:
                     self.events.append(Event.SHIP_LOST)
                 if self.waiting is not None and not self.waiting.out:
                     self._hold_for_the_other_player()
-                elif self.invaded or self.ships <= 0:
+                elif self.out:
                     self._game_over()
                 else:
                     self._cannon_wait()
@@ -530,9 +534,7 @@ class World:
         assert waiting is not None
         self.waiting = Turn(self.player, self.score, self.ships, self.extra_awarded, self.wave,
                             self.rack, [bunker.mask for bunker in self.bunkers], out=self.out)
-        for kind in THINGS:
-            for body in list(self.store.by_kind[kind]):
-                self.store.remove(body)
+        self._clear_field()
         hide(self.rack)
         self.shot, self.slots, self.explosions, self.bunkers = None, bombs.new_slots(), [], []
         self.saucer = saucer.SaucerState(timer=self.config.timing.saucer_timer)
