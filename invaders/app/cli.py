@@ -210,6 +210,10 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     bench.add_argument("--window", action="store_true",
                        help="instead, a game in a real window: CPU seconds a second through "
                             "SDL's native framebuffer and through a renderer (needs a display)")
+    bench.add_argument("--reading", action="store_true",
+                       help="instead, replay files at the 64 MB size limit read in fresh "
+                            "processes (the longest valid one and three hostile ones): "
+                            "seconds and peak memory against the goal of 2 s and 100 MB")
     bench.add_argument("--against", metavar="REV",
                        help="instead, this tree's game speed against a git revision's "
                             "(checked out in a temporary worktree), game by game in turn")
@@ -353,6 +357,12 @@ def cmd_bench(args: argparse.Namespace) -> int:
         return 0
 
     use_dummy_drivers()
+    if args.reading:
+        from invaders.app.readbench import reading_bench
+
+        lines, met = reading_bench(args.rounds)
+        print("\n".join(lines))
+        return 0 if met else 1
     from invaders.lab.bench import BenchFailure, bench
 
     if args.against is not None:

@@ -1,0 +1,116 @@
+"""`invaders bench --reading`: the longest replay a file may hold, and the worst, read.
+
+Files at the size limit (64 MB) are made in a temporary folder: the longest valid replay
+(the program's own lines, one a second of play, 8.7 million ticks), and three hostile ones
+whose header holds 64 MB of empty objects, of fractions or of fields. Each round reads each
+in a fresh process, taking turns; printed: the seconds `load` took and the process's peak
+memory, medians over the rounds with their spread, against the goal of 2 s and 100 MB.
+"""
+
+from __future__ import annotations
+
+import json
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+from invaders.app.recording import record_headless, save_replay
+from invaders.game.replay import MAX_FILE_BYTES
+from invaders.game.world import World
+from invaders.lab.autopilot import Autopilot
+
+GOAL_SECONDS = 2.0
+GOAL_MB = 100
+
+CHILD = """
+import json, resource, sys, time
+from invaders.game.replay import ReplayError, load
+start = time.perf_counter()
+try:
+    ticks = load(sys.argv[1]).ticks
+except ReplayError:
+    ticks = None
+seconds = time.perf_counter() - start
+try:  # this process's own peak (ru_maxrss may hold the parent's from before the fork)
+    with open("/proc/self/status") as status:
+        peak = next(int(line.split()[1]) for line in status if line.startswith("VmHWM:"))
+except OSError:
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+print(json.dumps([seconds, peak / 1024, ticks]))
+"""
+
+
+def longest_replay(path: Path, folder: Path) -> int:
+    """Write to `path` a valid replay as long as the size limit lets one be: lines in the
+    program's own shape, 60 ticks each, every checkpoint a real one's with the tick moved on
+    (valid to read; running it would fail at the second checkpoint). Returns its ticks."""
+    game = folder / "game.json"
+    save_replay(game, record_headless(World(seed=7), Autopilot(7), 120))
+    header, *lines = game.read_text().splitlines()
+    checkpoint = json.loads(lines[-1])["checkpoint"]
+    line = json.dumps({"inputs": [[0, 30], [4, 30]], "checkpoint": dict(checkpoint, tick=0)},
+                      separators=(",", ":")).replace('"tick":0', '"tick":%d')
+    count = (MAX_FILE_BYTES - len(header) - 1) // (len(line) + 6)  # (the tick's digits)
+    with path.open("w") as out:
+        out.write(header + "\n")
+        out.writelines(line % (60 * n) + "\n" for n in range(1, count + 1))
+    return 60 * count
+
+
+def hostile_headers(folder: Path, header: str) -> dict[str, Path]:
+    """Headers of 64 MB of empty objects, of fractions, of fields (each once took 1.2 to 1.9
+    GB and up to a minute to refuse), written a piece at a time."""
+    size = MAX_FILE_BYTES - 4096
+    shapes = {  # what opens the list or object, its items, and what closes it
+        "64 MB of {} in the header": ('"x":[', ("{}," for _ in range(size // 3)), "{}]}"),
+        "64 MB of fractions": ('"x":[', ("0.5," for _ in range(size // 4)), "0.5]}"),
+        "64 MB of fields": ('"x":{', (f'"{n}":0,' for n in range(size // 12)), '"":0}}'),
+    }
+    paths = {}
+    for number, (name, (opening, items, closing)) in enumerate(shapes.items()):
+        paths[name] = folder / f"hostile-{number}.json"
+        with paths[name].open("w") as out:
+            out.write(header[:-1] + "," + opening)
+            out.writelines(items)
+            out.write(closing + "\n")
+    return paths
+
+
+def read_in_fresh_process(path: Path) -> tuple[float, float, int | None]:
+    """Seconds `load` took, the process's peak MB, and the ticks read (None: refused)."""
+    result = subprocess.run([sys.executable, "-c", CHILD, str(path)], capture_output=True,
+                            text=True, check=True, timeout=600)
+    seconds, megabytes, ticks = json.loads(result.stdout)
+    return seconds, megabytes, ticks
+
+
+def reading_bench(rounds: int) -> tuple[list[str], bool]:
+    """The table's lines, and whether every file met the goal."""
+    with tempfile.TemporaryDirectory() as name:
+        folder = Path(name)
+        longest = folder / "longest.json"
+        ticks = longest_replay(longest, folder)
+        files = {f"the longest valid replay ({ticks:,} ticks)": longest,
+                 **hostile_headers(folder, longest.open().readline().rstrip("\n"))}
+        seen: dict[str, list[tuple[float, float, int | None]]] = {n: [] for n in files}
+        for _ in range(rounds):
+            for label, path in files.items():
+                seen[label].append(read_in_fresh_process(path))
+    lines = [f"reading files at the size limit ({MAX_FILE_BYTES:,} bytes), {rounds} rounds "
+             f"taking turns, each in a fresh process: seconds to read or refuse, the "
+             f"process's peak MB; medians (lowest..highest round); goal {GOAL_SECONDS:g} s, "
+             f"{GOAL_MB} MB"]
+    met = True
+    for label, runs in seen.items():
+        seconds = [s for s, _, _ in runs]
+        megabytes = [m for _, m, _ in runs]
+        verdict = "read" if runs[0][2] is not None else "refused"
+        ok = statistics.median(seconds) < GOAL_SECONDS and statistics.median(megabytes) < GOAL_MB
+        met &= ok
+        lines.append(f"   {label:<42} {verdict:<8} {statistics.median(seconds):5.2f} s "
+                     f"({min(seconds):.2f}..{max(seconds):.2f})  "
+                     f"{statistics.median(megabytes):4.0f} MB ({min(megabytes):.0f}.."
+                     f"{max(megabytes):.0f})  {'met' if ok else 'MISSED'}")
+    return lines, met
