@@ -53,7 +53,7 @@ def _write(path: Path, objects: list) -> Path:
 def _version_1(replay: Replay) -> dict:
     """The same replay as a version-1 object (the format older programs wrote)."""
     header = json.loads(replay.header_line())
-    return {**header, "version": 1, "ticks": replay.ticks, "inputs": replay.inputs,
+    return {**header, "version": 1, "ticks": replay.ticks, "inputs": replay.inputs.lists(),
             "checkpoints": [dataclasses.asdict(c) for c in replay.checkpoints]}
 
 
@@ -431,7 +431,7 @@ def test_a_version_1_file_may_spread_its_one_object_over_lines(tmp_path):
     replay = record_headless(World(seed=2), Autopilot(2), 240)
     data = {"format": "invaders-replay", "version": 1, "program": "invaders test",
             "seed": replay.seed, "config": dataclasses.asdict(replay.config),
-            "ticks": replay.ticks, "inputs": replay.inputs,
+            "ticks": replay.ticks, "inputs": replay.inputs.lists(),
             "checkpoints": [dataclasses.asdict(c) for c in replay.checkpoints]}
     one_line, pretty = tmp_path / "one.json", tmp_path / "pretty.json"
     one_line.write_text(json.dumps(data) + "\n")

@@ -18,6 +18,7 @@ import pytest
 
 from invaders.app.recording import Recorder, record_headless
 from invaders.game.actions import Action
+from invaders.game.runs import Runs
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
 from tests.helpers import through_the_prompt, windowed
@@ -80,7 +81,7 @@ def test_a_replays_end_shows_the_verdict_and_enter_asks_for_a_game():
     bits = [b for b, count in changed.inputs for _ in range(count)]
     first = next(t for t, b in enumerate(bits) if b & Action.RIGHT)
     bits[first:first + 20] = [int(Action.LEFT)] * 20  # twenty ticks the other way
-    changed.inputs = []
+    changed.inputs = Runs()
     for b in bits:
         changed.append(b)
     assert len(bits) == 240

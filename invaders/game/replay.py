@@ -14,27 +14,34 @@ recorder only ever appends whole lines, so
 saving costs the same at any length; a last line cut short (no newline: a write that was
 interrupted) is ignored, so a recording is always a valid replay of a prefix. Version 1 (one
 JSON object holding everything) is still read. Reading never trusts a number before it has
-checked it: the file's size, each integer's digits, the count of input runs and the ticks
-they cover are bounded while reading. Writing files is the application's (recording.py).
+checked it: the file's size, each line's length, each integer's digits, the count of input
+runs and the ticks they cover are bounded while reading. A file is read a block of lines at a
+time and kept packed (checkpoint.py, runs.py), so a replay at the size limit takes memory in
+proportion to what it means; lines in exactly the shape this program writes are read by the
+block (canonical.py), any other through the JSON parser, with the same result. Writing files
+is the application's (recording.py).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 import os
 import re
 import stat
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO
 
 from invaders import __version__
 from invaders.engine.adaptive import DEFAULT_BROADPHASE
+from invaders.game import canonical
 from invaders.game.actions import ALL_ACTIONS
+from invaders.game.checkpoint import COUNT_NAMES, Checkpoint, Checkpoints
 from invaders.game.config import ConfigError, GameConfig
-from invaders.game.kinds import THINGS
+from invaders.game.runs import Runs
 from invaders.game.statehash import GROUPS, combine
 from invaders.game.world import World
 
@@ -60,70 +67,37 @@ V1_KEYS = HEADER_KEYS - {"players"} | {"ticks", "inputs", "checkpoints"}
 Switch = tuple[int, dict[str, Any]]  # a lab choice, and the tick before whose step it began
 HASH = re.compile(r"^[0-9a-f]{32}$")
 GROUP_HASH = re.compile(r"^[0-9a-f]{16}$")
-COUNT_NAMES = frozenset(kind.name.lower() for kind in THINGS)
 
 
 class ReplayError(ValueError):
     """A replay file that cannot be used; the message names the problem."""
 
 
-@dataclass(frozen=True)
-class Checkpoint:
-    tick: int
-    hash: str
-    score: int
-    ships: int
-    wave: int
-    counts: dict[str, int]
-    groups: dict[str, str]
-
-    @classmethod
-    def of(cls, world: World) -> Checkpoint:
-        groups = world.group_hashes()
-        return cls(world.tick, combine(groups), world.score, world.ships, world.wave,
-                   world.kind_counts(), groups)
-
-    def differences(self, other: Checkpoint) -> list[str]:
-        """What differs, most telling first: score, ships, wave, counts, then groups, then
-        the hash (empty: they are the same)."""
-        diffs = [f"{name} {getattr(self, name)} expected {getattr(other, name)}"
-                 for name in ("score", "ships", "wave")
-                 if getattr(self, name) != getattr(other, name)]
-        diffs += [f"{kind} count {self.counts.get(kind)} expected {other.counts.get(kind)}"
-                  for kind in sorted(set(self.counts) | set(other.counts))
-                  if self.counts.get(kind) != other.counts.get(kind)]
-        groups = [g for g in GROUPS if self.groups.get(g) != other.groups.get(g)]
-        if groups:
-            diffs.append("state differs in " + ", ".join(groups))
-        if not diffs and self.hash != other.hash:
-            diffs.append("state hash differs")
-        return diffs
-
-
 @dataclass
 class Replay:
     seed: int
     config: GameConfig
-    inputs: list[list[int]] = field(default_factory=list)  # [bits, count] runs
-    checkpoints: list[Checkpoint] = field(default_factory=list)
+    inputs: Runs = field(default_factory=Runs)  # (given as [bits, count] runs, or Runs)
+    checkpoints: Checkpoints = field(default_factory=Checkpoints)
     program: str = f"invaders {__version__}"
     switches: list[Switch] = field(default_factory=list)  # lab choices, by tick
     players: int = 1  # the first game's (a later game's start button is in the inputs)
 
+    def __post_init__(self) -> None:  # (kept packed: a long replay holds a million runs)
+        if not isinstance(self.inputs, Runs):
+            self.inputs = Runs(self.inputs)
+        if not isinstance(self.checkpoints, Checkpoints):
+            self.checkpoints = Checkpoints(self.checkpoints)
+
     @property
     def ticks(self) -> int:
-        return sum(count for _, count in self.inputs)
+        return self.inputs.ticks
 
     def actions(self) -> Iterator[int]:
-        for bits, count in self.inputs:
-            for _ in range(count):
-                yield bits
+        return self.inputs.actions()
 
     def append(self, bits: int) -> None:
-        if self.inputs and self.inputs[-1][0] == bits:
-            self.inputs[-1][1] += 1
-        else:
-            self.inputs.append([bits, 1])
+        self.inputs.add(bits)
 
     def header_line(self) -> str:
         header = {"format": FORMAT, "version": VERSION, "program": self.program,
@@ -244,7 +218,7 @@ def _checkpoint(data: Any, where: str, ticks: int) -> Checkpoint:
     _need(isinstance(data["hash"], str) and bool(HASH.match(data["hash"])),
           f"{where} hash is not 32 lower-case hex digits")
     counts = data["counts"]
-    _need(isinstance(counts, dict) and set(counts) == COUNT_NAMES,
+    _need(isinstance(counts, dict) and set(counts) == set(COUNT_NAMES),
           f"{where} counts must name exactly {', '.join(sorted(COUNT_NAMES))}")
     groups = data["groups"]
     _need(isinstance(groups, dict) and set(groups) == set(GROUPS),
@@ -259,7 +233,7 @@ def _checkpoint(data: Any, where: str, ticks: int) -> Checkpoint:
                       dict(groups))
 
 
-def _runs(inputs: Any, where: str, total: int, runs: list[list[int]]) -> int:
+def _runs(inputs: Any, where: str, total: int, runs: Runs) -> int:
     """Append checked input runs; returns the ticks covered so far (bounded while reading)."""
     _need(isinstance(inputs, list), f"{where} inputs must be a list of [bits, count] runs")
     _need(len(runs) + len(inputs) <= MAX_RUNS, f"more than {MAX_RUNS} input runs")
@@ -271,10 +245,7 @@ def _runs(inputs: Any, where: str, total: int, runs: list[list[int]]) -> int:
         count = _int(run[1], f"{name} count", 1, MAX_TICKS)
         total += count
         _need(total <= MAX_TICKS, f"inputs run past {MAX_TICKS} ticks")
-        if runs and runs[-1][0] == bits:
-            runs[-1][1] += count
-        else:
-            runs.append([bits, count])
+        runs.add(bits, count)
     return total
 
 
@@ -326,13 +297,14 @@ def _players(header: dict[str, Any]) -> int:
     return players
 
 
-def _finish(seed: int, config: GameConfig, runs: list[list[int]],
-            checkpoints: list[Checkpoint], program: str, ticks: int,
-            switches: list[Switch] | None = None, players: int = 1) -> Replay:
-    _need(bool(checkpoints), "there is no checkpoint")
-    seen = [c.tick for c in checkpoints]
-    _need(seen == sorted(set(seen)), "checkpoint ticks must strictly increase")
-    _need(seen[-1] == ticks, "the last checkpoint must be at the last tick")
+def _finish(seed: int, config: GameConfig, runs: Runs, checkpoints: Checkpoints,
+            ticks: list[int], program: str, total: int, switches: list[Switch] | None = None,
+            players: int = 1) -> Replay:
+    """The replay, once its checkpoints' `ticks` are known to increase up to the last."""
+    _need(bool(ticks), "there is no checkpoint")
+    _need(all(a < b for a, b in itertools.pairwise(ticks)),
+          "checkpoint ticks must strictly increase")
+    _need(ticks[-1] == total, "the last checkpoint must be at the last tick")
     return Replay(seed, config, runs, checkpoints, program, switches or [], players)
 
 
@@ -343,46 +315,99 @@ def parse(data: Any) -> Replay:
     for key in ("ticks", "inputs", "checkpoints"):
         _need(key in data, f"field {key!r} is missing")
     ticks = _int(data["ticks"], "ticks", 0, MAX_TICKS)
-    runs: list[list[int]] = []
+    runs = Runs()
     total = _runs(data["inputs"], "the", 0, runs)
     _need(total == ticks, f"inputs cover {total} ticks but ticks says {ticks}")
     listed = data["checkpoints"]
     _need(isinstance(listed, list) and len(listed) <= ticks + 1,
           "checkpoints must be a list, at most one a tick")
     checkpoints = [_checkpoint(c, f"checkpoint {i}", ticks) for i, c in enumerate(listed)]
-    return _finish(seed, config, runs, checkpoints, program, ticks)
+    return _finish(seed, config, runs, Checkpoints(checkpoints),
+                   [c.tick for c in checkpoints], program, ticks)
 
 
 def parse_lines(lines: list[str], numbers: list[int] | None = None) -> Replay:
     """A version-2 Replay from its lines (the header first), or ReplayError; `numbers`: each
     line's number in its file (blank lines left out between them), 1, 2, 3... by default."""
-    _need(len(lines[0]) <= MAX_HEADER_BYTES,
-          f"the header line is {len(lines[0]):,} characters: at most {MAX_HEADER_BYTES:,}")
-    header = _decode(lines[0], "the header line")
+    numbered = list(zip(numbers or range(1, len(lines) + 1), lines, strict=True))
+    return _parse_blocks(numbered[0][1], ((number, line.rstrip("\n").encode() + b"\n")
+                                          for number, line in numbered[1:]))
+
+
+def _parse_blocks(header_line: str, blocks: Iterable[tuple[int, bytes]]) -> Replay:
+    """A version-2 Replay from its header line and the other lines in blocks of whole lines,
+    each with its first line's number (a long replay is never held as text)."""
+    _need(len(header_line) <= MAX_HEADER_BYTES,
+          f"the header line is {len(header_line):,} characters: at most {MAX_HEADER_BYTES:,}")
+    header = _decode(header_line, "the header line")
     _, seed, config, program = _header(header)
     players = _players(header)
-    runs: list[list[int]] = []
-    checkpoints: list[Checkpoint] = []
-    switches: list[Switch] = []
+    runs, checkpoints, switches = Runs(), Checkpoints(), []
     total = 0
-    numbered = zip(numbers[1:] if numbers else range(2, len(lines) + 1), lines[1:], strict=True)
-    for number, line in numbered:
-        where = f"line {number}"
-        _need(len(line) <= MAX_LINE_BYTES,
-              f"{where} is {len(line):,} characters: a checkpoint's line is at most "
-              f"{MAX_LINE_BYTES:,}")
-        data = _decode(line, where)
-        _need(isinstance(data, dict) and set(data) - {"lab"} == {"inputs", "checkpoint"},
-              f"{where} must hold exactly inputs and checkpoint (and lab switches)")
-        start = total
-        total = _runs(data["inputs"], where, total, runs)
-        if "lab" in data:
-            _switches(data["lab"], where, start, total, switches)
-        checkpoint = _checkpoint(data["checkpoint"], f"{where} checkpoint", MAX_TICKS)
-        _need(checkpoint.tick == total,
-              f"{where}: its checkpoint is at tick {checkpoint.tick}, its inputs end at {total}")
-        checkpoints.append(checkpoint)
-    return _finish(seed, config, runs, checkpoints, program, total, switches, players)
+    for first, block in blocks:
+        covered = _canonical_block(block, total, runs, checkpoints)
+        if covered is not None:
+            total = covered
+            continue
+        for number, line in _block_lines(first, block):  # each as it can be read
+            covered = _canonical_block(line, total, runs, checkpoints)
+            if covered is None:
+                text = _text(line).rstrip("\n")
+                covered = _any_line(text, f"line {number}", total, runs, checkpoints, switches)
+            total = covered
+    return _finish(seed, config, runs, checkpoints, checkpoints.ticks(), program, total,
+                   switches, players)
+
+
+def _block_lines(number: int, block: bytes) -> Iterator[tuple[int, bytes]]:
+    """A block's lines that hold something, each with its newline and its number."""
+    for offset, line in enumerate(block.splitlines(keepends=True)):
+        if line.strip():
+            yield number + offset, line
+
+
+_UNKNOWN_BITS = ~ALL_ACTIONS
+
+
+def _canonical_block(block: bytes, total: int, runs: Runs,
+                     checkpoints: Checkpoints) -> int | None:
+    """Take a block of whole lines when each is in exactly the shape this program writes and
+    every value in it is good: the ticks covered so far. None (having taken nothing) for
+    any other block, whose lines the JSON parser reads (and names the problem of)."""
+    read = canonical.read_block(block)
+    if read is None:
+        return None
+    ends = [total + end for end in read.ends]
+    good = (read.most_runs + canonical.REST <= MAX_LINE_BYTES
+            and len(runs) + len(read.bits) <= MAX_RUNS
+            and ends == read.ticks and ends[-1] <= MAX_TICKS
+            and min(read.counts, default=1) > 0
+            and not any(map(_UNKNOWN_BITS.__and__, read.bits)))
+    if not good:
+        return None
+    runs.extend(read.bits, read.counts)
+    checkpoints.extend_columns(read.ticks, read.values, read.digests)
+    return ends[-1]
+
+
+def _any_line(line: str, where: str, total: int, runs: Runs, checkpoints: Checkpoints,
+              switches: list[Switch]) -> int:
+    """Take a checkpoint's line of any shape JSON allows, checking every field: the ticks
+    covered so far, or ReplayError naming the first problem."""
+    _need(len(line) <= MAX_LINE_BYTES,
+          f"{where} is {len(line):,} characters: a checkpoint's line is at most "
+          f"{MAX_LINE_BYTES:,}")
+    data = _decode(line, where)
+    _need(isinstance(data, dict) and set(data) - {"lab"} == {"inputs", "checkpoint"},
+          f"{where} must hold exactly inputs and checkpoint (and lab switches)")
+    covered = _runs(data["inputs"], where, total, runs)
+    if "lab" in data:
+        _switches(data["lab"], where, total, covered, switches)
+    checkpoint = _checkpoint(data["checkpoint"], f"{where} checkpoint", MAX_TICKS)
+    _need(checkpoint.tick == covered,
+          f"{where}: its checkpoint is at tick {checkpoint.tick}, its inputs end at {covered}")
+    checkpoints.append(checkpoint)
+    return covered
 
 
 def _bounded_int(text: str) -> int:
@@ -417,15 +442,25 @@ def _decode(text: str, where: str) -> Any:
         raise ReplayError(f"{where}: invalid JSON: nested too deeply") from None
 
 
-def _first_line_fits(length: int, total: int, number: int) -> None:
+def _first_line_limit(size: int) -> int:
     """The first line is a header (16 KB at most) or a whole version-1 file (8 MB)."""
-    _need(length <= max(MAX_HEADER_BYTES, min(total, MAX_V1_BYTES)),
-          f"line {number} is {length:,} characters: a header is at most "
-          f"{MAX_HEADER_BYTES:,} (and a version-1 file {MAX_V1_BYTES:,})")
+    return max(MAX_HEADER_BYTES, min(size, MAX_V1_BYTES))
 
 
-def read_text(path: str | Path) -> str:
-    """A replay file's text: only a regular file, only up to the size limit."""
+def load(path: str | Path) -> Replay:
+    """Read and validate a replay file of either version, a line at a time; ReplayError
+    names the problem."""
+    handle, size = _open(path)
+    with handle:
+        try:
+            return _read(handle, size)
+        except OSError as err:
+            raise ReplayError(f"cannot read: {err.strerror}") from None
+
+
+def _open(path: str | Path) -> tuple[BinaryIO, int]:
+    """A replay file opened for reading, and its size: only a regular file, only up to the
+    size limit."""
     try:
         info = os.stat(path)
     except FileNotFoundError:
@@ -439,44 +474,99 @@ def read_text(path: str | Path) -> str:
     if info.st_size > MAX_FILE_BYTES:
         raise ReplayError(f"{info.st_size} bytes: a replay may be at most {MAX_FILE_BYTES}")
     try:
-        with open(path, "rb") as handle:
-            raw = handle.read(MAX_FILE_BYTES + 1)
+        return open(path, "rb"), info.st_size  # (closed by load)
     except OSError as err:
         raise ReplayError(f"cannot read: {err.strerror}") from None
-    _need(len(raw) <= MAX_FILE_BYTES, f"a replay may be at most {MAX_FILE_BYTES} bytes")
-    first = raw.find(b"\n")  # checked on the bytes: a line too long is never decoded
-    _first_line_fits(len(raw) if first < 0 else first, len(raw), 1)
+
+
+def _read(handle: BinaryIO, size: int) -> Replay:
+    head = handle.read(4096).decode("utf-8", "replace")
+    handle.seek(0)
+    _need(size <= MAX_V1_BYTES or not _V1_MARK.search(head),
+          f"a version-1 replay may be at most {MAX_V1_BYTES:,} bytes (longer games are "
+          "written in version 2)")
+    number, text = _first_line(handle, size)
+    try:
+        data = _decode(text, f"line {number}")
+    except ReplayError:
+        whole = _one_object(handle, size)  # a version-1 file spread over lines, as JSON allows
+        if whole is None:
+            raise
+        return parse(whole)
+    if _is_version_1(data):
+        _need(not any(line.strip() for _, block in _blocks(handle, number + 1)
+                      for line in block.splitlines()),
+              "a version-1 replay is one JSON object")
+        return parse(data)
+    return _parse_blocks(text, _blocks(handle, number + 1))
+
+
+def _first_line(handle: BinaryIO, size: int) -> tuple[int, str]:
+    """The first line that holds something, and its number, bounded before it is decoded
+    (as a header or a whole version-1 file). A last line with no newline (a write that was
+    interrupted) is left out, unless it is the file's first."""
+    limit, number = _first_line_limit(size), 0
+    while raw := handle.readline(limit + 1):
+        number += 1
+        whole = raw.endswith(b"\n")
+        if not whole and len(raw) > limit:
+            rest, whole = _skip_line(handle)
+            _need(not whole and number > 1, _too_long(number, len(raw) + rest, limit))
+        if not whole and number > 1:
+            _need(not raw.strip(), "the file holds no complete line")
+            break
+        text = _text(raw[:-1] if whole else raw)
+        if text.strip():
+            return number, text
+    raise ReplayError("the file is empty")
+
+
+BLOCK_BYTES = 2**18  # some 570 of the program's lines
+
+
+def _blocks(handle: BinaryIO, number: int) -> Iterator[tuple[int, bytes]]:
+    """The rest of the file, from line `number`, in blocks of whole lines (a quarter of a
+    megabyte or so), each with its first line's number. A last line with no newline (a
+    write that was interrupted) is left out; a line longer than a checkpoint's may be is
+    never kept whole."""
+    pending = b""
+    while chunk := handle.read(BLOCK_BYTES):
+        _need(handle.tell() <= MAX_FILE_BYTES, f"a replay may be at most {MAX_FILE_BYTES} bytes")
+        pending += chunk
+        end = pending.rfind(b"\n") + 1
+        if end:
+            yield number, pending[:end]
+            number += pending.count(b"\n", 0, end)
+            pending = pending[end:]
+        if len(pending) > MAX_LINE_BYTES:
+            rest, ended = _skip_line(handle)
+            _need(not ended, _too_long(number, len(pending) + rest, MAX_LINE_BYTES))
+            return  # (the file ended inside it: a line cut short)
+
+
+def _skip_line(handle: BinaryIO) -> tuple[int, bool]:
+    """Read past the rest of a line too long to keep: its length, and whether a newline
+    ended it (not: the file ended)."""
+    length = 0
+    while chunk := handle.readline(2**16):
+        length += len(chunk)
+        if chunk.endswith(b"\n"):
+            return length - 1, True
+    return length, False
+
+
+def _too_long(number: int, length: int, limit: int) -> str:
+    what = (f"a checkpoint's line is at most {MAX_LINE_BYTES:,}" if limit == MAX_LINE_BYTES
+            else f"a header is at most {MAX_HEADER_BYTES:,} (and a version-1 file "
+                 f"{MAX_V1_BYTES:,})")
+    return f"line {number} is {length:,} characters: {what}"
+
+
+def _text(raw: bytes) -> str:
     try:
         return raw.decode("utf-8")
     except UnicodeDecodeError:
         raise ReplayError("not a text file") from None
-
-
-def load(path: str | Path) -> Replay:
-    """Read and validate a replay file of either version; ReplayError names the problem."""
-    text = read_text(path)
-    _need(bool(text.strip()), "the file is empty")
-    lines = text.split("\n")
-    if not text.endswith("\n") and len(lines) > 1:
-        lines.pop()  # a last line cut short by an interrupted write: not part of the replay
-    numbers = [n for n, line in enumerate(lines, 1) if line.strip()]  # as the file counts
-    lines = [lines[n - 1] for n in numbers]
-    _need(bool(lines), "the file holds no complete line")
-    _need(len(text) <= MAX_V1_BYTES or not _V1_MARK.search(text[:4096]),
-          f"a version-1 replay may be at most {MAX_V1_BYTES:,} bytes (longer games are "
-          "written in version 2)")
-    _first_line_fits(len(lines[0]), len(text), numbers[0])
-    try:
-        first = _decode(lines[0], f"line {numbers[0]}")
-    except ReplayError:
-        whole = _one_object(text)  # a version-1 file spread over lines, as JSON allows
-        if whole is None:
-            raise
-        return parse(whole)
-    if _is_version_1(first):
-        _need(len(lines) == 1, "a version-1 replay is one JSON object")
-        return parse(first)
-    return parse_lines(lines, numbers)
 
 
 _V1_MARK = re.compile(r'"version"\s*:\s*1\b')
@@ -486,8 +576,12 @@ def _is_version_1(data: Any) -> bool:
     return isinstance(data, dict) and data.get("version") == 1 and type(data["version"]) is int
 
 
-def _one_object(text: str) -> dict | None:
+def _one_object(handle: BinaryIO, size: int) -> dict | None:
     """The file as one version-1 object over several lines, or None if it is not one."""
+    if size > MAX_V1_BYTES:
+        return None
+    handle.seek(0)
+    text = handle.read(MAX_V1_BYTES + 1).decode("utf-8", "replace")
     if not text.lstrip().startswith("{"):
         return None
     try:
@@ -529,7 +623,7 @@ class CheckResult:
 
 def run(replay: Replay, broadphase: str = DEFAULT_BROADPHASE, recompute: bool = False,
         switch: Callable[[World, dict[str, Any]], None] | None = None,
-        ) -> tuple[CheckResult, list[Checkpoint]]:
+        ) -> tuple[CheckResult, Checkpoints]:
     """Run a replay headless at full speed, checking every field of every checkpoint.
 
     Returns the result and the checkpoints this run produced (for --update). With
@@ -542,19 +636,23 @@ def run(replay: Replay, broadphase: str = DEFAULT_BROADPHASE, recompute: bool = 
     world = replay.world(broadphase)
     pending = iter(replay.switches)
     upcoming = next(pending, None)
-    expected = {c.tick: c for c in replay.checkpoints}
-    produced: list[Checkpoint] = []
+    expected = iter(replay.checkpoints)  # in tick order, unpacked one at a time
+    due = next(expected, None)
+    produced = Checkpoints()
     mismatch = None
 
     def visit() -> bool:
-        nonlocal mismatch
-        if world.tick in expected:
-            got = Checkpoint.of(world)
-            produced.append(got)
-            diffs = got.differences(expected[world.tick])
-            if diffs and mismatch is None:
-                mismatch = f"tick {world.tick}: " + "; ".join(diffs)
-                return recompute
+        """Compare the world with the checkpoint due at its tick, if one is: go on?"""
+        nonlocal mismatch, due
+        if due is None or world.tick != due.tick:
+            return True
+        got = Checkpoint.of(world)
+        produced.append(got)
+        diffs = got.differences(due)
+        due = next(expected, None)
+        if diffs and mismatch is None:
+            mismatch = f"tick {world.tick}: " + "; ".join(diffs)
+            return recompute
         return True
 
     if visit():
@@ -566,7 +664,7 @@ def run(replay: Replay, broadphase: str = DEFAULT_BROADPHASE, recompute: bool = 
                     raise ReplayError(f"lab switch at tick {upcoming[0]}: {err}") from None
                 upcoming = next(pending, None)
             world.step(bits)
-            if world.tick in expected and not visit():
+            if not visit():
                 break
     final = produced[-1] if produced else Checkpoint.of(world)
     return CheckResult(replay.ticks, len(produced), final, mismatch), produced

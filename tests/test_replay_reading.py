@@ -1,0 +1,153 @@
+"""Reading long replays: the block reader for lines in the program's own shape changes
+nothing but the speed, replays are kept packed, and a file at the size limit is read in
+memory in proportion to what it means, not to its size."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from unittest import mock
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from invaders.app.readbench import longest_replay, read_in_fresh_process
+from invaders.app.recording import record_headless, save_replay
+from invaders.game import canonical
+from invaders.game import replay as replay_module
+from invaders.game.checkpoint import Checkpoints
+from invaders.game.replay import MAX_FILE_BYTES, MAX_TICKS, ReplayError, load
+from invaders.game.runs import Runs
+from invaders.game.world import World
+from invaders.lab.autopilot import Autopilot
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory) -> Path:
+    """A game as the program writes it (its lines in the one shape the block reader reads)."""
+    path = tmp_path_factory.mktemp("reading") / "game.json"
+    save_replay(path, record_headless(World(seed=7), Autopilot(7), 900))
+    return path
+
+
+def _outcome(path: Path) -> object:
+    """What loading gives: the replay, or the one line that refuses it."""
+    try:
+        return load(path)
+    except ReplayError as err:
+        return f"refused: {err}"
+
+
+def _by_json_alone(path: Path) -> object:
+    """The same, with the block reader turned off: every line through the JSON parser."""
+    with mock.patch.object(canonical, "read_block", return_value=None):
+        return _outcome(path)
+
+
+def test_the_programs_own_lines_are_all_read_by_the_block_reader(written):
+    with mock.patch.object(replay_module, "_any_line", side_effect=AssertionError("JSON")):
+        replay = load(written)
+    assert replay == _by_json_alone(written) and len(replay.checkpoints) == 16
+
+
+@pytest.mark.parametrize("block_bytes", [1, 7, 460, 4096])
+def test_blocks_cut_anywhere_in_a_line_read_the_same(written, block_bytes):
+    whole = load(written)
+    with mock.patch.object(replay_module, "BLOCK_BYTES", block_bytes):
+        assert load(written) == whole
+
+
+EDGES = [0, 1, -1, 31, 32, 2**63 - 1, 2**63, 10**18 - 1, 10**18, MAX_TICKS, MAX_TICKS + 1,
+         1.5, "a", None, [], {}]
+
+
+@st.composite
+def compact_mutants(draw, path: Path) -> str:
+    """A file in the program's own shape (no spaces) with one change: any value anywhere
+    in a checkpoint's line or in an input run (numbers at every edge), one character, a run
+    split in two (the same inputs, unless a part is empty), a line's fields reordered, or a
+    blank line."""
+    objects = [json.loads(line) for line in path.read_text().splitlines()]
+    index = draw(st.integers(2, len(objects) - 1))  # (line 2 has no input runs)
+    how = draw(st.sampled_from(["value", "run", "char", "split", "reorder", "blank"]))
+    if how == "run":
+        run = draw(st.sampled_from(objects[index]["inputs"]))
+        run[draw(st.integers(0, 1))] = draw(st.sampled_from([0, 32, 2**63, MAX_TICKS + 1]))
+    elif how == "value":
+        parent = objects[index]
+        while True:
+            key = draw(st.sampled_from(list(parent) if isinstance(parent, dict)
+                                       else range(len(parent))))
+            child = parent[key]
+            if not (isinstance(child, dict | list) and child) or draw(st.booleans()):
+                break
+            parent = child
+        parent[key] = draw(st.one_of(st.sampled_from(EDGES), st.integers()))
+    elif how == "split":
+        runs = objects[index]["inputs"]
+        at = draw(st.integers(0, len(runs) - 1))
+        bits, count = runs[at]
+        part = draw(st.integers(0, count))  # (a part of 0 ticks: no file may hold one)
+        runs[at:at + 1] = [[bits, part], [bits, count - part]]
+    elif how == "reorder":
+        objects[index] = dict(reversed(objects[index].items()))
+    text = [json.dumps(o, separators=(",", ":")) + "\n" for o in objects]
+    if how == "char":
+        line = text[index]
+        at = draw(st.integers(0, len(line) - 2))
+        text[index] = line[:at] + draw(st.sampled_from('0123456789abcdefAF",:[]{} -')) + line[
+            at + 1:]
+    elif how == "blank":
+        text.insert(index, " " * draw(st.integers(0, 2)) + "\n")
+    return "".join(text)
+
+
+@settings(suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_the_block_reader_gives_what_the_json_parser_gives(written, tmp_path, data):
+    """The invariant the block reader keeps: whatever a file holds, it gives the very
+    replay, or the very refusal, that reading every line as JSON gives."""
+    path = tmp_path / "mutant.json"
+    path.write_text(data.draw(compact_mutants(written)))
+    assert _outcome(path) == _by_json_alone(path)
+
+
+@pytest.mark.parametrize("limit, value", [("MAX_RUNS", 40), ("MAX_TICKS", 500),
+                                          ("MAX_LINE_BYTES", 600)])
+def test_each_limit_refuses_the_same_through_either_reader(written, limit, value):
+    with mock.patch.object(replay_module, limit, value):
+        refused = _outcome(written)
+        assert refused == _by_json_alone(written) and str(refused).startswith("refused: ")
+
+
+def test_a_run_split_across_lines_or_within_one_is_stored_once():
+    runs = Runs([(4, 2)])
+    runs.extend([4, 4, 0, 1, 1, 4], [1, 3, 2, 5, 1, 1])
+    assert list(runs) == [(4, 6), (0, 2), (1, 6), (4, 1)] and runs.ticks == 15
+    one_at_a_time = Runs([(4, 2)])
+    for bits, count in zip([4, 4, 0, 1, 1, 4], [1, 3, 2, 5, 1, 1], strict=True):
+        one_at_a_time.add(bits, count)
+    assert runs == one_at_a_time and list(runs.actions())[:7] == [4] * 6 + [0]
+
+
+def test_checkpoints_come_back_from_their_packing_field_for_field(written):
+    listed = [json.loads(line)["checkpoint"] for line in written.read_text().splitlines()[1:]]
+    packed = load(written).checkpoints
+    assert isinstance(packed, Checkpoints) and len(packed) == len(listed)
+    assert [vars(c) for c in packed] == listed  # every number and digest, in the file's order
+    assert packed[-1] == packed[len(listed) - 1] and packed[1:3] == list(packed)[1:3]
+    with pytest.raises(IndexError):
+        packed[len(listed)]
+
+
+def test_a_replay_at_the_size_limit_is_read_in_memory_in_proportion_to_its_meaning(
+        tmp_path):
+    """64 MB of checkpoints, 8.7 million ticks: the file's text is never held, only its
+    numbers and digests packed (about 160 bytes a checkpoint, 16 an input run), where
+    reading it as text and objects took 520 MB."""
+    path = tmp_path / "long.json"
+    ticks = longest_replay(path, tmp_path)
+    assert MAX_FILE_BYTES - 2**20 < path.stat().st_size <= MAX_FILE_BYTES
+    _, megabytes, read = read_in_fresh_process(path)
+    assert read == ticks > 8_000_000 and megabytes < 100  # (the interpreter and imports: 34)
