@@ -1,0 +1,281 @@
+"""Reading a replay file: a block of lines at a time, each line bounded before it is read.
+
+Only a regular file up to the size limit is read. The header (or a whole version-1 file) is
+read first, bounded; the rest a block of whole lines at a time, so a file's text is never
+held whole and a line too long is never kept. Lines in exactly the shape this program
+writes are read a block at a time (canonical.py); any other line through the JSON parser and
+the field checks (replay_checks.py), with the same result. The replay is kept packed
+(checkpoint.py, runs.py): a replay at the size limit takes memory in proportion to what it
+means, not to the file's size.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import stat
+from collections.abc import Iterable, Iterator
+from pathlib import Path
+from typing import Any, BinaryIO
+
+from invaders.game import canonical
+from invaders.game.actions import ALL_ACTIONS
+from invaders.game.checkpoint import Checkpoints
+from invaders.game.replay_checks import (
+    add_runs,
+    add_switches,
+    checkpoint_from,
+    decode,
+    finished,
+    header_fields,
+    need,
+    parse,
+    players_of,
+)
+from invaders.game.replay_format import (
+    MAX_FILE_BYTES,
+    MAX_HEADER_BYTES,
+    MAX_LINE_BYTES,
+    MAX_RUNS,
+    MAX_TICKS,
+    MAX_V1_BYTES,
+    Replay,
+    ReplayError,
+    Switch,
+)
+from invaders.game.runs import Runs
+
+
+def parse_lines(lines: list[str], numbers: list[int] | None = None) -> Replay:
+    """A version-2 Replay from its lines (the header first), or ReplayError; `numbers`: each
+    line's number in its file (blank lines left out between them), 1, 2, 3... by default."""
+    numbered = list(zip(numbers or range(1, len(lines) + 1), lines, strict=True))
+    return _parse_blocks(numbered[0][1], ((number, line.rstrip("\n").encode() + b"\n")
+                                          for number, line in numbered[1:]))
+
+
+def _parse_blocks(header_line: str, blocks: Iterable[tuple[int, bytes]]) -> Replay:
+    """A version-2 Replay from its header line and the other lines in blocks of whole lines,
+    each with its first line's number (a long replay is never held as text)."""
+    need(len(header_line) <= MAX_HEADER_BYTES,
+          f"the header line is {len(header_line):,} characters: at most {MAX_HEADER_BYTES:,}")
+    header = decode(header_line, "the header line")
+    _, seed, config, program = header_fields(header)
+    players = players_of(header)
+    runs, checkpoints, switches = Runs(), Checkpoints(), []
+    total = 0
+    for first, block in blocks:
+        covered = _canonical_block(block, total, runs, checkpoints)
+        if covered is not None:
+            total = covered
+            continue
+        for number, line in _block_lines(first, block):  # each as it can be read
+            covered = _canonical_block(line, total, runs, checkpoints)
+            if covered is None:
+                text = _text(line).rstrip("\n")
+                covered = _any_line(text, f"line {number}", total, runs, checkpoints, switches)
+            total = covered
+    return finished(seed, config, runs, checkpoints, checkpoints.ticks(), program, total,
+                   switches, players)
+
+
+def _block_lines(number: int, block: bytes) -> Iterator[tuple[int, bytes]]:
+    """A block's lines that hold something, each with its newline and its number."""
+    for offset, line in enumerate(block.splitlines(keepends=True)):
+        if line.strip():
+            yield number + offset, line
+
+
+_UNKNOWN_BITS = ~ALL_ACTIONS
+
+
+def _canonical_block(block: bytes, total: int, runs: Runs,
+                     checkpoints: Checkpoints) -> int | None:
+    """Take a block of whole lines when each is in exactly the shape this program writes and
+    every value in it is good: the ticks covered so far. None (having taken nothing) for
+    any other block, whose lines the JSON parser reads (and names the problem of)."""
+    read = canonical.read_block(block)
+    if read is None:
+        return None
+    ends = [total + end for end in read.ends]
+    good = (read.most_runs + canonical.REST <= MAX_LINE_BYTES
+            and len(runs) + len(read.bits) <= MAX_RUNS
+            and ends == read.ticks and ends[-1] <= MAX_TICKS
+            and min(read.counts, default=1) > 0
+            and not any(map(_UNKNOWN_BITS.__and__, read.bits)))
+    if not good:
+        return None
+    runs.extend(read.bits, read.counts)
+    checkpoints.extend_columns(read.ticks, read.values, read.digests)
+    return ends[-1]
+
+
+def _any_line(line: str, where: str, total: int, runs: Runs, checkpoints: Checkpoints,
+              switches: list[Switch]) -> int:
+    """Take a checkpoint's line of any shape JSON allows, checking every field: the ticks
+    covered so far, or ReplayError naming the first problem."""
+    need(len(line) <= MAX_LINE_BYTES,
+          f"{where} is {len(line):,} characters: a checkpoint's line is at most "
+          f"{MAX_LINE_BYTES:,}")
+    data = decode(line, where)
+    need(isinstance(data, dict) and set(data) - {"lab"} == {"inputs", "checkpoint"},
+          f"{where} must hold exactly inputs and checkpoint (and lab switches)")
+    covered = add_runs(data["inputs"], where, total, runs)
+    if "lab" in data:
+        add_switches(data["lab"], where, total, covered, switches)
+    checkpoint = checkpoint_from(data["checkpoint"], f"{where} checkpoint", MAX_TICKS)
+    need(checkpoint.tick == covered,
+          f"{where}: its checkpoint is at tick {checkpoint.tick}, its inputs end at {covered}")
+    checkpoints.append(checkpoint)
+    return covered
+
+
+
+def _first_line_limit(size: int) -> int:
+    """The first line is a header (16 KB at most) or a whole version-1 file (8 MB)."""
+    return max(MAX_HEADER_BYTES, min(size, MAX_V1_BYTES))
+
+
+def load(path: str | Path) -> Replay:
+    """Read and validate a replay file of either version, a line at a time; ReplayError
+    names the problem."""
+    handle, size = _open(path)
+    with handle:
+        try:
+            return _read(handle, size)
+        except OSError as err:
+            raise ReplayError(f"cannot read: {err.strerror}") from None
+
+
+def _open(path: str | Path) -> tuple[BinaryIO, int]:
+    """A replay file opened for reading, and its size: only a regular file, only up to the
+    size limit."""
+    try:
+        info = os.stat(path)
+    except FileNotFoundError:
+        raise ReplayError("no such file") from None
+    except OSError as err:
+        raise ReplayError(f"cannot read: {err.strerror}") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise ReplayError("is a folder, not a file")
+    if not stat.S_ISREG(info.st_mode):
+        raise ReplayError("not a regular file (a pipe, a device, or a link to one)")
+    if info.st_size > MAX_FILE_BYTES:
+        raise ReplayError(f"{info.st_size} bytes: a replay may be at most {MAX_FILE_BYTES}")
+    try:
+        return open(path, "rb"), info.st_size  # (closed by load)
+    except OSError as err:
+        raise ReplayError(f"cannot read: {err.strerror}") from None
+
+
+def _read(handle: BinaryIO, size: int) -> Replay:
+    head = handle.read(4096).decode("utf-8", "replace")
+    handle.seek(0)
+    need(size <= MAX_V1_BYTES or not _V1_MARK.search(head),
+          f"a version-1 replay may be at most {MAX_V1_BYTES:,} bytes (longer games are "
+          "written in version 2)")
+    number, text = _first_line(handle, size)
+    try:
+        data = decode(text, f"line {number}")
+    except ReplayError:
+        whole = _one_object(handle, size)  # a version-1 file spread over lines, as JSON allows
+        if whole is None:
+            raise
+        return parse(whole)
+    if _is_version_1(data):
+        need(not any(line.strip() for _, block in _blocks(handle, number + 1)
+                      for line in block.splitlines()),
+              "a version-1 replay is one JSON object")
+        return parse(data)
+    return _parse_blocks(text, _blocks(handle, number + 1))
+
+
+def _first_line(handle: BinaryIO, size: int) -> tuple[int, str]:
+    """The first line that holds something, and its number, bounded before it is decoded
+    (as a header or a whole version-1 file). A last line with no newline (a write that was
+    interrupted) is left out, unless it is the file's first."""
+    limit, number = _first_line_limit(size), 0
+    while raw := handle.readline(limit + 1):
+        number += 1
+        whole = raw.endswith(b"\n")
+        if not whole and len(raw) > limit:
+            rest, whole = _skip_line(handle)
+            need(not whole and number > 1, _too_long(number, len(raw) + rest, limit))
+        if not whole and number > 1:
+            need(not raw.strip(), "the file holds no complete line")
+            break
+        text = _text(raw[:-1] if whole else raw)
+        if text.strip():
+            return number, text
+    raise ReplayError("the file is empty")
+
+
+BLOCK_BYTES = 2**18  # some 570 of the program's lines
+
+
+def _blocks(handle: BinaryIO, number: int) -> Iterator[tuple[int, bytes]]:
+    """The rest of the file, from line `number`, in blocks of whole lines (a quarter of a
+    megabyte or so), each with its first line's number. A last line with no newline (a
+    write that was interrupted) is left out; a line longer than a checkpoint's may be is
+    never kept whole."""
+    pending = b""
+    while chunk := handle.read(BLOCK_BYTES):
+        need(handle.tell() <= MAX_FILE_BYTES, f"a replay may be at most {MAX_FILE_BYTES} bytes")
+        pending += chunk
+        end = pending.rfind(b"\n") + 1
+        if end:
+            yield number, pending[:end]
+            number += pending.count(b"\n", 0, end)
+            pending = pending[end:]
+        if len(pending) > MAX_LINE_BYTES:
+            rest, ended = _skip_line(handle)
+            need(not ended, _too_long(number, len(pending) + rest, MAX_LINE_BYTES))
+            return  # (the file ended inside it: a line cut short)
+
+
+def _skip_line(handle: BinaryIO) -> tuple[int, bool]:
+    """Read past the rest of a line too long to keep: its length, and whether a newline
+    ended it (not: the file ended)."""
+    length = 0
+    while chunk := handle.readline(2**16):
+        length += len(chunk)
+        if chunk.endswith(b"\n"):
+            return length - 1, True
+    return length, False
+
+
+def _too_long(number: int, length: int, limit: int) -> str:
+    what = (f"a checkpoint's line is at most {MAX_LINE_BYTES:,}" if limit == MAX_LINE_BYTES
+            else f"a header is at most {MAX_HEADER_BYTES:,} (and a version-1 file "
+                 f"{MAX_V1_BYTES:,})")
+    return f"line {number} is {length:,} characters: {what}"
+
+
+def _text(raw: bytes) -> str:
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError:
+        raise ReplayError("not a text file") from None
+
+
+_V1_MARK = re.compile(r'"version"\s*:\s*1\b')
+
+
+def _is_version_1(data: Any) -> bool:
+    return isinstance(data, dict) and data.get("version") == 1 and type(data["version"]) is int
+
+
+def _one_object(handle: BinaryIO, size: int) -> dict | None:
+    """The file as one version-1 object over several lines, or None if it is not one."""
+    if size > MAX_V1_BYTES:
+        return None
+    handle.seek(0)
+    text = handle.read(MAX_V1_BYTES + 1).decode("utf-8", "replace")
+    if not text.lstrip().startswith("{"):
+        return None
+    try:
+        whole = decode(text, "the file")
+    except ReplayError:
+        return None
+    return whole if _is_version_1(whole) else None
+
