@@ -51,6 +51,17 @@ def test_the_programs_own_lines_are_all_read_by_the_block_reader(written):
     assert replay == _by_json_alone(written) and len(replay.checkpoints) == 16
 
 
+@pytest.mark.parametrize("separators, end", [((", ", ": "), "\n"), ((",", ":"), "\r\n")])
+def test_a_little_white_space_is_read_by_the_block_reader_too(written, tmp_path, separators,
+                                                              end):
+    """As `json.dumps` writes by default, or with Windows' line ends."""
+    path = tmp_path / "spaced.json"
+    path.write_bytes("".join(json.dumps(json.loads(line), separators=separators) + end
+                             for line in written.read_text().splitlines()).encode())
+    with mock.patch.object(replay_reading, "_any_line", side_effect=AssertionError("JSON")):
+        assert load(path) == load(written)
+
+
 @pytest.mark.parametrize("block_bytes", [1, 7, 460, 4096])
 def test_blocks_cut_anywhere_in_a_line_read_the_same(written, block_bytes):
     whole = load(written)
@@ -66,11 +77,12 @@ EDGES = [0, 1, -1, 31, 32, 2**63 - 1, 2**63, 10**18 - 1, 10**18, MAX_TICKS, MAX_
 def compact_mutants(draw, path: Path) -> str:
     """A file in the program's own shape (no spaces) with one change: any value anywhere
     in a checkpoint's line or in an input run (numbers at every edge), one character, a run
-    split in two (the same inputs, unless a part is empty), a line's fields reordered, or a
-    blank line."""
+    split in two (the same inputs, unless a part is empty), a line's fields reordered, a
+    blank line, or white space put between a line's tokens."""
     objects = [json.loads(line) for line in path.read_text().splitlines()]
     index = draw(st.integers(2, len(objects) - 1))  # (line 2 has no input runs)
-    how = draw(st.sampled_from(["value", "run", "char", "split", "reorder", "blank"]))
+    how = draw(st.sampled_from(["value", "run", "char", "split", "reorder", "blank",
+                                "spaced"]))
     if how == "run":
         run = draw(st.sampled_from(objects[index]["inputs"]))
         run[draw(st.integers(0, 1))] = draw(st.sampled_from([0, 32, 2**63, MAX_TICKS + 1]))
@@ -100,6 +112,10 @@ def compact_mutants(draw, path: Path) -> str:
             at + 1:]
     elif how == "blank":
         text.insert(index, " " * draw(st.integers(0, 2)) + "\n")
+    elif how == "spaced":  # white space where JSON allows it, a little or a lot
+        gap = st.sampled_from(["", " ", "\t", " " * 8, " " * 9, "\r"])
+        text[index] = draw(gap) + json.dumps(objects[index], separators=(
+            draw(gap) + "," + draw(gap), draw(gap) + ":" + draw(gap))) + draw(gap) + "\n"
     return "".join(text)
 
 

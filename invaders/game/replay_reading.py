@@ -80,10 +80,11 @@ def _parse_blocks(header_line: str, blocks: Iterable[tuple[int, bytes]]) -> Repl
 
 
 def _block_lines(number: int, block: bytes) -> Iterator[tuple[int, bytes]]:
-    """A block's lines that hold something, each with its newline and its number."""
-    for offset, line in enumerate(block.splitlines(keepends=True)):
+    """A block's lines that hold something, each with its newline and its number (lines
+    end at a newline alone: a carriage return is white space inside a line, as in JSON)."""
+    for offset, line in enumerate(block.split(b"\n")[:-1]):
         if line.strip():
-            yield number + offset, line
+            yield number + offset, line + b"\n"
 
 
 _UNKNOWN_BITS = ~ALL_ACTIONS
@@ -110,22 +111,27 @@ def _canonical_block(block: bytes, total: int, runs: Runs,
     return ends[-1]
 
 
+_LINE_KEYS = {"inputs", "checkpoint"}
+
+
 def _any_line(line: str, where: str, total: int, runs: Runs, checkpoints: Checkpoints,
               switches: list[Switch]) -> int:
     """Take a checkpoint's line of any shape JSON allows, checking every field: the ticks
     covered so far, or ReplayError naming the first problem."""
-    need(len(line) <= MAX_LINE_BYTES,
-          f"{where} is {len(line):,} characters: a checkpoint's line is at most "
-          f"{MAX_LINE_BYTES:,}")
+    # (Each message is made only when it is needed: a long replay has 145,000 lines.)
+    if len(line) > MAX_LINE_BYTES:
+        raise ReplayError(f"{where} is {len(line):,} characters: a checkpoint's line is at "
+                          f"most {MAX_LINE_BYTES:,}")
     data = decode(line, where)
-    need(isinstance(data, dict) and set(data) - {"lab"} == {"inputs", "checkpoint"},
-          f"{where} must hold exactly inputs and checkpoint (and lab switches)")
+    if not (isinstance(data, dict) and data.keys() - {"lab"} == _LINE_KEYS):
+        raise ReplayError(f"{where} must hold exactly inputs and checkpoint (and lab switches)")
     covered = add_runs(data["inputs"], where, total, runs)
     if "lab" in data:
         add_switches(data["lab"], where, total, covered, switches)
     checkpoint = checkpoint_from(data["checkpoint"], f"{where} checkpoint", MAX_TICKS)
-    need(checkpoint.tick == covered,
-          f"{where}: its checkpoint is at tick {checkpoint.tick}, its inputs end at {covered}")
+    if checkpoint.tick != covered:
+        raise ReplayError(f"{where}: its checkpoint is at tick {checkpoint.tick}, its inputs "
+                          f"end at {covered}")
     checkpoints.append(checkpoint)
     return covered
 
@@ -184,7 +190,7 @@ def _read(handle: BinaryIO, size: int) -> Replay:
         return parse(whole)
     if _is_version_1(data):
         need(not any(line.strip() for _, block in _blocks(handle, number + 1)
-                      for line in block.splitlines()),
+                      for line in block.split(b"\n")),
               "a version-1 replay is one JSON object")
         return parse(data)
     return _parse_blocks(text, _blocks(handle, number + 1))
