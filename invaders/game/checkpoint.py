@@ -55,6 +55,8 @@ class Checkpoint:
 
 VALUES = ("score", "ships", "wave", *COUNT_NAMES)  # whole numbers from 0 to 2**63 - 1
 DIGESTS = ("hash", *GROUPS)  # 16 bytes for the hash, 8 for each group
+_WIDTHS = (16, *[8] * len(GROUPS))
+_VALUES_TEXT = b",".join([b"%d"] * len(VALUES))
 
 
 class Checkpoints(Sequence[Checkpoint]):
@@ -71,25 +73,24 @@ class Checkpoints(Sequence[Checkpoint]):
             self.append(checkpoint)
 
     def append(self, checkpoint: Checkpoint) -> None:
+        counts, groups = checkpoint.counts, checkpoint.groups
         numbers = (checkpoint.score, checkpoint.ships, checkpoint.wave,
-                   *(checkpoint.counts[name] for name in COUNT_NAMES))
-        self.extend_columns(
-            [checkpoint.tick], [b",".join(b"%d" % number for number in numbers)],
-            [bytes.fromhex(checkpoint.hash),
-             *(bytes.fromhex(checkpoint.groups[name]) for name in GROUPS)])
+                   *[counts[name] for name in COUNT_NAMES])
+        self.extend_columns([checkpoint.tick], [_VALUES_TEXT % numbers], [
+            bytes.fromhex(checkpoint.hash), *[bytes.fromhex(groups[name]) for name in GROUPS]])
 
-    def extend_columns(self, ticks: Iterable[int], values: Iterable[bytes],
+    def extend_columns(self, ticks: Sequence[int], values: Sequence[bytes],
                        digests: Sequence[bytes]) -> None:
         """More checkpoints, a column a field: their ticks; their VALUES as decimal digits
         joined by commas (no sign, no leading zero); each of DIGESTS (bytes end to end)."""
+        if len(values) != len(ticks) or len(digests) != len(DIGESTS) or any(
+                len(column) != len(ticks) * width
+                for column, width in zip(digests, _WIDTHS, strict=True)):
+            raise ValueError("columns of different lengths")
         self._ticks.extend(ticks)
         self._values.extend(values)
         for column, more in zip(self._digests, digests, strict=True):
             column += more
-        if len(self._values) != len(self) or any(
-                len(column) != len(self) * (16 if name == "hash" else 8)
-                for name, column in zip(DIGESTS, self._digests, strict=True)):
-            raise ValueError("columns of different lengths")
 
     def ticks(self) -> array:
         return self._ticks

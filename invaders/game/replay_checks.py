@@ -53,8 +53,10 @@ def shown(value: Any, most: int = 40) -> str:
 
 
 def _int(value: Any, name: str, low: int = 0, high: int = 2**63 - 1) -> int:
-    need(type(value) is int, f"{name} must be a whole number")
-    need(low <= value <= high, f"{name} {shown(value)} is out of range {low}..{high}")
+    if type(value) is not int:
+        raise ReplayError(f"{name} must be a whole number")
+    if not low <= value <= high:
+        raise ReplayError(f"{name} {shown(value)} is out of range {low}..{high}")
     return value
 
 
@@ -99,24 +101,29 @@ def _config(data: Any, cls: type = GameConfig, name: str = "config") -> Any:
         raise ReplayError(str(err)) from None
 
 
+_CHECKPOINT_KEYS = frozenset({"tick", "hash", "score", "ships", "wave", "counts", "groups"})
+_COUNT_KEYS, _GROUP_KEYS = frozenset(COUNT_NAMES), frozenset(GROUPS)
+
+
 def checkpoint_from(data: Any, where: str, ticks: int) -> Checkpoint:
-    need(isinstance(data, dict), f"{where} must be an object")
-    keys = {"tick", "hash", "score", "ships", "wave", "counts", "groups"}
-    need(set(data) == keys, f"{where} must have exactly the fields {sorted(keys)}")
+    # (Each message is made only when it is needed: a long replay has 145,000 checkpoints.)
+    if not (isinstance(data, dict) and data.keys() == _CHECKPOINT_KEYS):
+        need(isinstance(data, dict), f"{where} must be an object")
+        raise ReplayError(f"{where} must have exactly the fields {sorted(_CHECKPOINT_KEYS)}")
     tick = _int(data["tick"], f"{where} tick", 0, ticks)
-    need(isinstance(data["hash"], str) and bool(HASH.match(data["hash"])),
-          f"{where} hash is not 32 lower-case hex digits")
-    counts = data["counts"]
-    need(isinstance(counts, dict) and set(counts) == set(COUNT_NAMES),
-          f"{where} counts must name exactly {', '.join(sorted(COUNT_NAMES))}")
-    groups = data["groups"]
-    need(isinstance(groups, dict) and set(groups) == set(GROUPS),
-          f"{where} groups must name exactly {', '.join(GROUPS)}")
-    for name, digest in groups.items():
-        need(isinstance(digest, str) and bool(GROUP_HASH.match(digest)),
-              f"{where} group {name} is not 16 lower-case hex digits")
-    need(combine(groups) == data["hash"], f"{where}: hash does not match its groups")
-    return Checkpoint(tick, data["hash"], _int(data["score"], f"{where} score"),
+    digest, counts, groups = data["hash"], data["counts"], data["groups"]
+    if not (isinstance(digest, str) and HASH.match(digest)):
+        raise ReplayError(f"{where} hash is not 32 lower-case hex digits")
+    if not (isinstance(counts, dict) and counts.keys() == _COUNT_KEYS):
+        raise ReplayError(f"{where} counts must name exactly {', '.join(sorted(COUNT_NAMES))}")
+    if not (isinstance(groups, dict) and groups.keys() == _GROUP_KEYS):
+        raise ReplayError(f"{where} groups must name exactly {', '.join(GROUPS)}")
+    for name, value in groups.items():
+        if not (isinstance(value, str) and GROUP_HASH.match(value)):
+            raise ReplayError(f"{where} group {name} is not 16 lower-case hex digits")
+    if combine(groups) != digest:
+        raise ReplayError(f"{where}: hash does not match its groups")
+    return Checkpoint(tick, digest, _int(data["score"], f"{where} score"),
                       _int(data["ships"], f"{where} ships"), _int(data["wave"], f"{where} wave"),
                       {k: _int(v, f"{where} count {k}") for k, v in counts.items()},
                       dict(groups))
@@ -127,15 +134,22 @@ def add_runs(inputs: Any, where: str, total: int, runs: Runs) -> int:
     need(isinstance(inputs, list), f"{where} inputs must be a list of [bits, count] runs")
     need(len(runs) + len(inputs) <= MAX_RUNS, f"more than {MAX_RUNS} input runs")
     for i, run in enumerate(inputs):
-        name = f"{where} input run {i}"
-        need(isinstance(run, list) and len(run) == 2, f"{name} must be [bits, count]")
-        bits = _int(run[0], f"{name} bits")
-        need(bits & ~ALL_ACTIONS == 0, f"{name} has unknown action bits {bits:#x}")
-        count = _int(run[1], f"{name} count", 1, MAX_TICKS)
-        total += count
+        if not (isinstance(run, list) and len(run) == 2 and type(run[0]) is int
+                and type(run[1]) is int and run[0] & ~ALL_ACTIONS == 0 and run[0] >= 0
+                and 1 <= run[1] <= MAX_TICKS):  # (the message made only when needed)
+            _bad_run(run, f"{where} input run {i}")
+        total += run[1]
         need(total <= MAX_TICKS, f"inputs run past {MAX_TICKS} ticks")
-        runs.add(bits, count)
+        runs.add(*run)
     return total
+
+
+def _bad_run(run: Any, name: str) -> None:
+    """Raise the first problem of an input run that is not [bits, count]."""
+    need(isinstance(run, list) and len(run) == 2, f"{name} must be [bits, count]")
+    bits = _int(run[0], f"{name} bits")
+    need(bits & ~ALL_ACTIONS == 0, f"{name} has unknown action bits {bits:#x}")
+    _int(run[1], f"{name} count", 1, MAX_TICKS)
 
 
 def add_switches(listed: Any, where: str, start: int, end: int, out: list[Switch]) -> None:
