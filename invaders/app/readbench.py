@@ -1,10 +1,12 @@
 """`invaders bench --reading`: the longest replay a file may hold, and the worst, read.
 
 Files at the size limit (64 MB) are made in a temporary folder: the longest valid replay
-(the program's own lines, one a second of play, 8.7 million ticks), and three hostile ones
-whose header holds 64 MB of empty objects, of fractions or of fields. Each round reads each
-in a fresh process, taking turns; printed: the seconds `load` took and the process's peak
-memory, medians over the rounds with their spread, against the goal of 2 s and 100 MB.
+(the program's own lines, one a second of play, 8.7 million ticks), the same written with
+json.dumps' default spacing and with its fields sorted (read by the JSON parser), and three
+hostile ones whose header holds 64 MB of empty objects, of fractions or of fields. Each
+round reads each in a fresh process, taking turns; printed: the seconds `load` took and the
+process's peak memory, medians over the rounds with their spread, against the goal of 2 s
+and 100 MB.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import statistics
 import subprocess
 import sys
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 
 from invaders.app.recording import record_headless, save_replay
@@ -59,23 +62,49 @@ def longest_replay(path: Path, folder: Path) -> int:
     return 60 * count
 
 
+def rewritten(source: Path, path: Path, **dumps: object) -> int:
+    """Write `source`'s lines to `path` as `json.dumps(**dumps)` writes them, as many whole
+    lines as fit in the size limit. Returns the ticks they cover."""
+    ticks, size = 0, 0
+    with source.open() as lines, path.open("w") as out:
+        for line in lines:
+            data = json.loads(line)
+            text = json.dumps(data, **dumps) + "\n"  # type: ignore[arg-type]
+            size += len(text)
+            if size > MAX_FILE_BYTES:
+                break
+            out.write(text)
+            ticks = data.get("checkpoint", {}).get("tick", ticks)
+    return ticks
+
+
 def hostile_headers(folder: Path, header: str) -> dict[str, Path]:
     """Headers of 64 MB of empty objects, of fractions, of fields (each once took 1.2 to 1.9
     GB and up to a minute to refuse), written a piece at a time."""
     size = MAX_FILE_BYTES - 4096
-    shapes = {  # what opens the list or object, its items, and what closes it
-        "64 MB of {} in the header": ('"x":[', ("{}," for _ in range(size // 3)), "{}]}"),
-        "64 MB of fractions": ('"x":[', ("0.5," for _ in range(size // 4)), "0.5]}"),
-        "64 MB of fields": ('"x":{', (f'"{n}":0,' for n in range(size // 12)), '"":0}}'),
+    shapes = {  # what opens the list or object, its items a piece at a time, what closes it
+        "64 MB of {} in the header": ('"x":[', _repeated("{},", size // 3), "{}]}"),
+        "64 MB of fractions": ('"x":[', _repeated("0.5,", size // 4), "0.5]}"),
+        "64 MB of fields": ('"x":{', _fields(size // 12), '"":0}}'),
     }
     paths = {}
-    for number, (name, (opening, items, closing)) in enumerate(shapes.items()):
+    for number, (name, (opening, pieces, closing)) in enumerate(shapes.items()):
         paths[name] = folder / f"hostile-{number}.json"
         with paths[name].open("w") as out:
             out.write(header[:-1] + "," + opening)
-            out.writelines(items)
+            out.writelines(pieces)
             out.write(closing + "\n")
     return paths
+
+
+def _repeated(item: str, count: int, piece: int = 2**16) -> Iterator[str]:
+    for start in range(0, count, piece):
+        yield item * min(piece, count - start)
+
+
+def _fields(count: int, piece: int = 2**16) -> Iterator[str]:
+    for start in range(0, count, piece):
+        yield "".join(f'"{n}":0,' for n in range(start, min(count, start + piece)))
 
 
 def read_in_fresh_process(path: Path) -> tuple[float, float, int | None]:
@@ -92,7 +121,12 @@ def reading_bench(rounds: int) -> tuple[list[str], bool]:
         folder = Path(name)
         longest = folder / "longest.json"
         ticks = longest_replay(longest, folder)
+        spaced, ordered = folder / "spaced.json", folder / "ordered.json"
+        spaced_ticks = rewritten(longest, spaced)
+        ordered_ticks = rewritten(longest, ordered, separators=(",", ":"), sort_keys=True)
         files = {f"the longest valid replay ({ticks:,} ticks)": longest,
+                 f"the same spaced as json.dumps ({spaced_ticks:,})": spaced,
+                 f"the same, fields sorted ({ordered_ticks:,})": ordered,
                  **hostile_headers(folder, longest.open().readline().rstrip("\n"))}
         seen: dict[str, list[tuple[float, float, int | None]]] = {n: [] for n in files}
         for _ in range(rounds):
