@@ -360,16 +360,18 @@ def test_the_reward_is_the_points_scored_across_the_counters_wrap_at_10000():
     assert world.score == 20 and reward == 30.0
 
 
-def test_the_shrink_runs_blas_on_one_thread_and_gives_it_back_after():
-    from threadpoolctl import threadpool_info
+@pytest.mark.parametrize("size", [(84, 84), (224, 224), (1, 1), (7, 200), (210, 13)])
+def test_each_block_of_the_shrink_stays_on_one_blas_thread_and_the_blocks_cover_it(size):
+    """The invariant the blocked shrink keeps: no block's product passes the work under
+    which OpenBLAS stays on the calling thread, and the blocks, put back together, are the
+    whole weights (each output once, none of its weights left out)."""
+    from invaders.env.observations import BLOCK_WORK, Shrink, area_weights
 
-    from invaders.env.observations import one_blas_thread
-
-    def threads():
-        return [info["num_threads"] for info in threadpool_info() if info["user_api"] == "blas"]
-
-    before = threads()
-    assert before  # (numpy's BLAS is loaded)
-    with one_blas_thread():
-        assert threads() == [1] * len(before)
-    assert threads() == before
+    shrink = Shrink(size)
+    for blocks, weights, across in ((shrink.rows, area_weights(256, size[0]), 224),
+                                    (shrink.cols, area_weights(224, size[1]), size[0])):
+        rebuilt = np.zeros_like(weights)
+        for outputs, span, part in blocks:
+            assert part.shape[0] * part.shape[1] * across <= BLOCK_WORK
+            rebuilt[outputs, span] += part
+        assert np.array_equal(rebuilt, weights)  # (a block twice would count twice)

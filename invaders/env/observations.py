@@ -10,8 +10,6 @@ multiply blend gives (a test holds the two equal pixel for pixel).
 
 from __future__ import annotations
 
-import contextlib
-
 import numpy as np
 import pygame
 
@@ -19,13 +17,6 @@ from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.entities import FOOTPRINT_ABOVE, CannonState
 from invaders.game.world import World
 from invaders.lab.picture import Picture
-
-try:  # (optional: the rl extra installs it)
-    from threadpoolctl import ThreadpoolController
-
-    _blas: ThreadpoolController | None = ThreadpoolController()
-except ImportError:
-    _blas = None
 
 ACTIVE = CannonState.ACTIVE
 # ITU-R BT.601 luma, in integers: the grey a monochrome monitor would show for each colour.
@@ -108,36 +99,57 @@ def area_weights(size_in: int, size_out: int) -> np.ndarray:
     return weights
 
 
-def one_blas_thread() -> contextlib.AbstractContextManager:
-    """BLAS on one thread while inside: the shrink's products are small, and on every core's
-    threads in each of a vector's worker processes they oversubscribe the machine (ours in
-    Gymnasium's async vector ran 5x slower). Needs threadpoolctl (the rl extra); without it,
-    BLAS is left as it is."""
-    if _blas is None:
-        return contextlib.nullcontext()
-    return _blas.limit(limits=1, user_api="blas")
+# Each block of the shrink's products does at most this many multiply-adds (m * n * k):
+# under it OpenBLAS, numpy's BLAS, runs a product on the calling thread (interface/gemm.c:
+# threads = m * n * k / (65536 * 4)), so the games in a vector's worker processes start no
+# BLAS threads to fight over the cores (the whole product at once did: 5x slower).
+BLOCK_WORK = 2**18
+BLOCK_ROWS = 12  # outputs a block (fewer if its work would pass BLOCK_WORK)
+
+
+def blocks(weights: np.ndarray, across: int) -> list[tuple[slice, slice, np.ndarray]]:
+    """The rows of `weights` (out, in) in blocks: each block's outputs, the span of input
+    its weights cover (they are zero elsewhere) and its weights there, each block's product
+    with `across` columns within BLOCK_WORK."""
+    found, start = [], 0
+    while start < weights.shape[0]:
+        for rows in range(BLOCK_ROWS, 0, -1):
+            stop = min(weights.shape[0], start + rows)
+            used = np.flatnonzero(weights[start:stop].any(axis=0))
+            span = slice(int(used[0]), int(used[-1]) + 1)
+            if rows * (span.stop - span.start) * across <= BLOCK_WORK:
+                break
+        found.append((slice(start, stop), span,
+                      np.ascontiguousarray(weights[start:stop, span])))
+        start = stop
+    return found
 
 
 class Shrink:
-    """A grey picture made smaller by area averaging, in arrays kept between steps: two
-    matrix products and a rounding, nothing allocated."""
+    """A grey picture made smaller by area averaging, in arrays kept between steps: the
+    rows, then the columns, a block of outputs at a time against only the inputs they
+    cover (the weights are a narrow band: the whole products did 28 times the work), and a
+    rounding; nothing allocated."""
 
     def __init__(self, size: tuple[int, int]) -> None:
         height, width = size
-        self.rows = area_weights(SCREEN_H, height)
-        self.cols = area_weights(SCREEN_W, width).T.copy()
+        self.rows = blocks(area_weights(SCREEN_H, height), across=SCREEN_W)
+        self.cols = blocks(area_weights(SCREEN_W, width), across=height)
         self._grey = np.zeros((SCREEN_H, SCREEN_W), np.float32)
         self._half = np.zeros((height, SCREEN_W), np.float32)
-        self._small = np.zeros((height, width), np.float32)
+        self._half_t = np.zeros((SCREEN_W, height), np.float32)  # (the columns as rows)
+        self._small_t = np.zeros((width, height), np.float32)
         self.out = np.zeros((height, width), np.uint8)
 
     def __call__(self, grey: np.ndarray) -> np.ndarray:
         np.copyto(self._grey, grey)
-        with one_blas_thread():
-            np.matmul(self.rows, self._grey, out=self._half)
-            np.matmul(self._half, self.cols, out=self._small)
-        np.add(self._small, 0.5, out=self._small)  # rounded to nearest, not down
-        np.copyto(self.out, self._small, casting="unsafe")
+        for outputs, span, weights in self.rows:
+            np.matmul(weights, self._grey[span], out=self._half[outputs])
+        np.copyto(self._half_t, self._half.T)
+        for outputs, span, weights in self.cols:
+            np.matmul(weights, self._half_t[span], out=self._small_t[outputs])
+        np.add(self._small_t, 0.5, out=self._small_t)  # rounded to nearest, not down
+        np.copyto(self.out, self._small_t.T, casting="unsafe")
         return self.out
 
 
