@@ -80,7 +80,7 @@ def run(replay: Replay, broadphase: str = DEFAULT_BROADPHASE, recompute: bool = 
     without it, or when it refuses one with ValueError).
     """
     need(not replay.switches or switch is not None,
-          "the replay switches collision methods in the lab: it needs the lab to run")
+         "the replay switches collision methods in the lab: it needs the lab to run")
     world = replay.world(broadphase)
     pending = iter(replay.switches)
     upcoming = next(pending, None)

@@ -91,7 +91,7 @@ def _config(data: Any, cls: type = GameConfig, name: str = "config") -> Any:
             values[key] = _config(value, type(default), where)
         elif isinstance(default, tuple):
             need(isinstance(value, list) and len(value) <= 64,
-                  f"{where} must be a list of at most 64 numbers")
+                 f"{where} must be a list of at most 64 numbers")
             values[key] = tuple(_int(v, where, -2**63) for v in value)
         else:  # (a size check here; the config itself checks each field's range)
             values[key] = _int(value, where, -2**63)
@@ -156,7 +156,7 @@ def add_switches(listed: Any, where: str, start: int, end: int, out: list[Switch
     """Append checked lab switches: [tick, {name: word or number}], ticks in the line's
     span and increasing (their meaning is checked by whoever applies them)."""
     need(isinstance(listed, list) and 0 < len(listed) <= MAX_SWITCHES,
-          f"{where} lab must be a list of 1 to {MAX_SWITCHES} [tick, choice] switches")
+         f"{where} lab must be a list of 1 to {MAX_SWITCHES} [tick, choice] switches")
     for i, item in enumerate(listed):
         name = f"{where} lab switch {i}"
         need(isinstance(item, list) and len(item) == 2, f"{name} must be [tick, choice]")
@@ -164,11 +164,11 @@ def add_switches(listed: Any, where: str, start: int, end: int, out: list[Switch
         need(not out or out[-1][0] <= tick, f"{name}: switch ticks must not decrease")
         choice = item[1]
         need(isinstance(choice, dict) and len(choice) <= MAX_SWITCH_FIELDS,
-              f"{name} choice must be an object of at most {MAX_SWITCH_FIELDS} fields")
+             f"{name} choice must be an object of at most {MAX_SWITCH_FIELDS} fields")
         for key, value in choice.items():
             need(len(key) <= 32, f"{name} has a field name longer than 32 characters")
             need((type(value) is str and len(value) <= 32) or type(value) is int,
-                  f"{name} field {key!r} must be a short word or a whole number")
+                 f"{name} field {key!r} must be a short word or a whole number")
             if type(value) is int:
                 _int(value, f"{name} field {key!r}", -(2**31), 2**31)
         out.append((tick, dict(choice)))
@@ -178,17 +178,17 @@ def header_fields(data: Any) -> tuple[int, int, GameConfig, str]:
     """(version, seed, config, program) from a file's first object."""
     need(isinstance(data, dict), "the file must hold a JSON object")
     need(data.get("format") == FORMAT,
-          f"format must be {FORMAT!r}, not {shown(data.get('format'))}")
+         f"format must be {FORMAT!r}, not {shown(data.get('format'))}")
     version = data.get("version")
     need(type(version) is int and version in READS,
-          f"version {shown(version)} is not supported (this program reads "
-          f"{' and '.join(map(str, READS))})")
+         f"version {shown(version)} is not supported (this program reads "
+         f"{' and '.join(map(str, READS))})")
     for key in ("program", "seed", "config"):
         need(key in data, f"field {key!r} is missing")
     unknown = sorted(str(k) for k in set(data) - (V1_KEYS if version == 1 else HEADER_KEYS))
     need(not unknown, f"unknown field {shown(unknown[0]) if unknown else ''}")
     need(isinstance(data["program"], str) and len(data["program"]) <= 200,
-          "program must be a string of at most 200 characters")
+         "program must be a string of at most 200 characters")
     return version, _int(data["seed"], "seed"), _config(data["config"]), data["program"]
 
 
@@ -196,7 +196,7 @@ def players_of(header: dict[str, Any]) -> int:
     """How many players the recorded world starts with (1 when the header does not say)."""
     players = header.get("players", 1)
     need(type(players) is int and players in (1, 2),
-          f"players must be 1 or 2, not {shown(players)}")
+         f"players must be 1 or 2, not {shown(players)}")
     return players
 
 
@@ -206,7 +206,7 @@ def finished(seed: int, config: GameConfig, runs: Runs, checkpoints: Checkpoints
     """The replay, once its checkpoints' `ticks` are known to increase up to the last."""
     need(bool(ticks), "there is no checkpoint")
     need(all(a < b for a, b in itertools.pairwise(ticks)),
-          "checkpoint ticks must strictly increase")
+         "checkpoint ticks must strictly increase")
     need(ticks[-1] == total, "the last checkpoint must be at the last tick")
     return Replay(seed, config, runs, checkpoints, program, switches or [], players)
 
@@ -223,11 +223,10 @@ def parse(data: Any) -> Replay:
     need(total == ticks, f"inputs cover {total} ticks but ticks says {ticks}")
     listed = data["checkpoints"]
     need(isinstance(listed, list) and len(listed) <= ticks + 1,
-          "checkpoints must be a list, at most one a tick")
+         "checkpoints must be a list, at most one a tick")
     checkpoints = [checkpoint_from(c, f"checkpoint {i}", ticks) for i, c in enumerate(listed)]
     return finished(seed, config, runs, Checkpoints(checkpoints),
                    [c.tick for c in checkpoints], program, ticks)
-
 
 
 def _bounded_int(text: str) -> int:

@@ -2,9 +2,9 @@
 
 Only a regular file up to the size limit is read. The header (or a whole version-1 file) is
 read first, bounded; the rest a block of whole lines at a time, so a file's text is never
-held whole and a line too long is never kept. Lines in exactly the shape this program
-writes are read a block at a time (canonical.py); any other line through the JSON parser and
-the field checks (replay_checks.py), with the same result. The replay is kept packed
+held whole and a line too long is never kept. Lines in the shape this program writes
+are read a block at a time (canonical.py); any other line through the JSON parser and the
+field checks (replay_checks.py), with the same result. The replay is kept packed
 (checkpoint.py, runs.py): a replay at the size limit takes memory in proportion to what it
 means, not to the file's size.
 """
@@ -58,7 +58,7 @@ def _parse_blocks(header_line: str, blocks: Iterable[tuple[int, bytes]]) -> Repl
     """A version-2 Replay from its header line and the other lines in blocks of whole lines,
     each with its first line's number (a long replay is never held as text)."""
     need(len(header_line) <= MAX_HEADER_BYTES,
-          f"the header line is {len(header_line):,} characters: at most {MAX_HEADER_BYTES:,}")
+         f"the header line is {len(header_line):,} characters: at most {MAX_HEADER_BYTES:,}")
     header = decode(header_line, "the header line")
     _, seed, config, program = header_fields(header)
     players = players_of(header)
@@ -92,9 +92,9 @@ _UNKNOWN_BITS = ~ALL_ACTIONS
 
 def _canonical_block(block: bytes, total: int, runs: Runs,
                      checkpoints: Checkpoints) -> int | None:
-    """Take a block of whole lines when each is in exactly the shape this program writes and
-    every value in it is good: the ticks covered so far. None (having taken nothing) for
-    any other block, whose lines the JSON parser reads (and names the problem of)."""
+    """Take a block of whole lines when each is in the shape this program writes (a little
+    white space allowed) and every value in it is good: the ticks covered so far. None
+    (having taken nothing) for any other block, whose lines are read again one by one."""
     read = canonical.read_block(block)
     if read is None:
         return None
@@ -134,7 +134,6 @@ def _any_line(line: str, where: str, total: int, runs: Runs, checkpoints: Checkp
                           f"end at {covered}")
     checkpoints.append(checkpoint)
     return covered
-
 
 
 def _first_line_limit(size: int) -> int:
@@ -178,8 +177,8 @@ def _read(handle: BinaryIO, size: int) -> Replay:
     head = handle.read(4096).decode("utf-8", "replace")
     handle.seek(0)
     need(size <= MAX_V1_BYTES or not _V1_MARK.search(head),
-          f"a version-1 replay may be at most {MAX_V1_BYTES:,} bytes (longer games are "
-          "written in version 2)")
+         f"a version-1 replay may be at most {MAX_V1_BYTES:,} bytes (longer games are "
+         "written in version 2)")
     number, text = _first_line(handle, size)
     try:
         data = decode(text, f"line {number}")
@@ -191,7 +190,7 @@ def _read(handle: BinaryIO, size: int) -> Replay:
     if _is_version_1(data):
         need(not any(line.strip() for _, block in _blocks(handle, number + 1)
                       for line in block.split(b"\n")),
-              "a version-1 replay is one JSON object")
+             "a version-1 replay is one JSON object")
         return parse(data)
     return _parse_blocks(text, _blocks(handle, number + 1))
 
