@@ -13,7 +13,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from invaders.app.readbench import longest_replay, read_in_fresh_process
+from invaders.app.readbench import longest_replay, read_in_fresh_process, reading_bench
 from invaders.app.recording import record_headless, save_replay
 from invaders.game import canonical, replay_checks, replay_reading
 from invaders.game.checkpoint import Checkpoints
@@ -170,3 +170,14 @@ def test_a_replay_at_the_size_limit_is_read_in_memory_in_proportion_to_its_meani
     assert MAX_FILE_BYTES - 2**20 < path.stat().st_size <= MAX_FILE_BYTES
     _, megabytes, read = read_in_fresh_process(path)
     assert read == ticks > 8_000_000 and megabytes < 100  # (the interpreter and imports: 34)
+
+
+def test_the_reading_bench_reads_the_valid_files_and_refuses_the_hostile_ones():
+    """`bench --reading` at 2 MB: each of its files read or refused as it says, a line each,
+    every figure under the goal at this size."""
+    lines, met = reading_bench(rounds=1, size=2**21)
+    rows = [line.split() for line in lines[1:]]
+    verdicts = [row[row.index("s") - 2] for row in rows]  # (the word before the seconds)
+    assert lines[0].startswith("reading files at the size limit (2,097,152 bytes), 1 rounds")
+    assert verdicts == ["read"] * 3 + ["refused"] * 3 and met, lines
+    assert [row[-1] for row in rows] == ["met"] * 6

@@ -45,8 +45,8 @@ print(json.dumps([seconds, peak / 1024, ticks]))
 """
 
 
-def longest_replay(path: Path, folder: Path) -> int:
-    """Write to `path` a valid replay as long as the size limit lets one be: lines in the
+def longest_replay(path: Path, folder: Path, size: int = MAX_FILE_BYTES) -> int:
+    """Write to `path` a valid replay as long as `size` bytes let one be: lines in the
     program's own shape, 60 ticks each, every checkpoint a real one's with the tick moved on
     (valid to read; running it would fail at the second checkpoint). Returns its ticks."""
     game = folder / "game.json"
@@ -55,37 +55,38 @@ def longest_replay(path: Path, folder: Path) -> int:
     checkpoint = json.loads(lines[-1])["checkpoint"]
     line = json.dumps({"inputs": [[0, 30], [4, 30]], "checkpoint": dict(checkpoint, tick=0)},
                       separators=(",", ":")).replace('"tick":0', '"tick":%d')
-    count = (MAX_FILE_BYTES - len(header) - 1) // (len(line) + 6)  # (the tick's digits)
+    count = (size - len(header) - 1) // (len(line) + 6)  # (the tick's digits)
     with path.open("w") as out:
         out.write(header + "\n")
         out.writelines(line % (60 * n) + "\n" for n in range(1, count + 1))
     return 60 * count
 
 
-def rewritten(source: Path, path: Path, **dumps: object) -> int:
+def rewritten(source: Path, path: Path, size: int = MAX_FILE_BYTES, **dumps: object) -> int:
     """Write `source`'s lines to `path` as `json.dumps(**dumps)` writes them, as many whole
-    lines as fit in the size limit. Returns the ticks they cover."""
-    ticks, size = 0, 0
+    lines as fit in `size` bytes. Returns the ticks they cover."""
+    ticks, written = 0, 0
     with source.open() as lines, path.open("w") as out:
         for line in lines:
             data = json.loads(line)
             text = json.dumps(data, **dumps) + "\n"  # type: ignore[arg-type]
-            size += len(text)
-            if size > MAX_FILE_BYTES:
+            written += len(text)
+            if written > size:
                 break
             out.write(text)
             ticks = data.get("checkpoint", {}).get("tick", ticks)
     return ticks
 
 
-def hostile_headers(folder: Path, header: str) -> dict[str, Path]:
-    """Headers of 64 MB of empty objects, of fractions, of fields (each once took 1.2 to 1.9
-    GB and up to a minute to refuse), written a piece at a time."""
-    size = MAX_FILE_BYTES - 4096
+def hostile_headers(folder: Path, header: str, size: int = MAX_FILE_BYTES
+                    ) -> dict[str, Path]:
+    """Headers of `size` bytes of empty objects, of fractions, of fields (at 64 MB each once
+    took 1.2 to 1.9 GB and up to a minute to refuse), written a piece at a time."""
+    room, mb = size - 4096, f"{size / 2**20:.4g} MB"
     shapes = {  # what opens the list or object, its items a piece at a time, what closes it
-        "64 MB of {} in the header": ('"x":[', _repeated("{},", size // 3), "{}]}"),
-        "64 MB of fractions": ('"x":[', _repeated("0.5,", size // 4), "0.5]}"),
-        "64 MB of fields": ('"x":{', _fields(size // 12), '"":0}}'),
+        f"{mb} of {{}} in the header": ('"x":[', _repeated("{},", room // 3), "{}]}"),
+        f"{mb} of fractions": ('"x":[', _repeated("0.5,", room // 4), "0.5]}"),
+        f"{mb} of fields": ('"x":{', _fields(room // 12), '"":0}}'),
     }
     paths = {}
     for number, (name, (opening, pieces, closing)) in enumerate(shapes.items()):
@@ -115,24 +116,24 @@ def read_in_fresh_process(path: Path) -> tuple[float, float, int | None]:
     return seconds, megabytes, ticks
 
 
-def reading_bench(rounds: int) -> tuple[list[str], bool]:
-    """The table's lines, and whether every file met the goal."""
+def reading_bench(rounds: int, size: int = MAX_FILE_BYTES) -> tuple[list[str], bool]:
+    """The table's lines, and whether every file met the goal (files of `size` bytes)."""
     with tempfile.TemporaryDirectory() as name:
         folder = Path(name)
         longest = folder / "longest.json"
-        ticks = longest_replay(longest, folder)
+        ticks = longest_replay(longest, folder, size)
         spaced, ordered = folder / "spaced.json", folder / "ordered.json"
-        spaced_ticks = rewritten(longest, spaced)
-        ordered_ticks = rewritten(longest, ordered, separators=(",", ":"), sort_keys=True)
+        spaced_ticks = rewritten(longest, spaced, size)
+        ordered_ticks = rewritten(longest, ordered, size, separators=(",", ":"), sort_keys=True)
         files = {f"the longest valid replay ({ticks:,} ticks)": longest,
                  f"the same spaced as json.dumps ({spaced_ticks:,})": spaced,
                  f"the same, fields sorted ({ordered_ticks:,})": ordered,
-                 **hostile_headers(folder, longest.open().readline().rstrip("\n"))}
+                 **hostile_headers(folder, longest.open().readline().rstrip("\n"), size)}
         seen: dict[str, list[tuple[float, float, int | None]]] = {n: [] for n in files}
         for _ in range(rounds):
             for label, path in files.items():
                 seen[label].append(read_in_fresh_process(path))
-    lines = [f"reading files at the size limit ({MAX_FILE_BYTES:,} bytes), {rounds} rounds "
+    lines = [f"reading files at the size limit ({size:,} bytes), {rounds} rounds "
              f"taking turns, each in a fresh process: seconds to read or refuse, the "
              f"process's peak MB; medians (lowest..highest round); goal {GOAL_SECONDS:g} s, "
              f"{GOAL_MB} MB"]
