@@ -102,7 +102,7 @@ def area_weights(size_in: int, size_out: int) -> np.ndarray:
 # Each block of the shrink's products does at most this many multiply-adds (m * n * k):
 # under it OpenBLAS, numpy's BLAS, runs a product on the calling thread (interface/gemm.c:
 # threads = m * n * k / (65536 * 4)), so the games in a vector's worker processes start no
-# BLAS threads to fight over the cores (the whole product at once did: 5x slower).
+# BLAS threads to fight over the cores (the whole product at once did: about 6 times slower).
 BLOCK_WORK = 2**18
 BLOCK_ROWS = 12  # outputs a block (fewer if its work would pass BLOCK_WORK)
 
