@@ -62,6 +62,17 @@ def test_a_little_white_space_is_read_by_the_block_reader_too(written, tmp_path,
         assert load(path) == load(written)
 
 
+def test_a_carriage_return_inside_a_line_is_white_space_on_the_json_path_too(written,
+                                                                            tmp_path):
+    """What the fuzzer found: fields in another order (so the JSON parser reads every line)
+    with carriage returns between tokens; lines end at a newline alone, as JSON has it."""
+    path = tmp_path / "sorted.json"
+    path.write_bytes("".join(json.dumps(json.loads(line), separators=("\r,", ":\r"),
+                                        sort_keys=True) + "\n"
+                             for line in written.read_text().splitlines()).encode())
+    assert _outcome(path) == _by_json_alone(path) == load(written)
+
+
 @pytest.mark.parametrize("block_bytes", [1, 7, 460, 4096])
 def test_blocks_cut_anywhere_in_a_line_read_the_same(written, block_bytes):
     whole = load(written)
