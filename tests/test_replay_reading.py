@@ -73,6 +73,29 @@ def test_a_carriage_return_inside_a_line_is_white_space_on_the_json_path_too(wri
     assert _outcome(path) == _by_json_alone(path) == load(written)
 
 
+def test_a_line_of_another_shape_costs_only_itself_the_block_reader(tmp_path):
+    """A lab switch (which the JSON parser reads) among 430 lines: the block holding it is
+    read again by halves, so a few dozen blocks take every other line, not each alone."""
+    longest_replay(tmp_path / "long.json", tmp_path, size=200_000)
+    objects = [json.loads(line) for line in (tmp_path / "long.json").read_text().splitlines()]
+    objects[200]["lab"] = [[objects[199]["checkpoint"]["tick"], {"speed": 1}]]
+    path = tmp_path / "lab.json"
+    path.write_text("".join(json.dumps(o, separators=(",", ":")) + "\n" for o in objects))
+    read_by_json = []
+
+    def counted(line, where, *rest):
+        read_by_json.append(where)
+        return _any_line(line, where, *rest)
+
+    _any_line = replay_reading._any_line
+    with mock.patch.object(replay_reading, "_any_line", counted), mock.patch.object(
+            canonical, "read_block", wraps=canonical.read_block) as blocks:
+        replay = load(path)
+    assert read_by_json == ["line 201"] and len(objects) > 400
+    assert blocks.call_count < 40, blocks.call_count  # (one a line: over 400)
+    assert replay == _by_json_alone(path) and replay.switches == [(11940, {"speed": 1})]
+
+
 @pytest.mark.parametrize("block_bytes", [1, 7, 460, 4096])
 def test_blocks_cut_anywhere_in_a_line_read_the_same(written, block_bytes):
     whole = load(written)
@@ -190,5 +213,5 @@ def test_the_reading_bench_reads_the_valid_files_and_refuses_the_hostile_ones():
     rows = [line.split() for line in lines[1:]]
     verdicts = [row[row.index("s") - 2] for row in rows]  # (the word before the seconds)
     assert lines[0].startswith("reading files at the size limit (2,097,152 bytes), 1 rounds")
-    assert verdicts == ["read"] * 3 + ["refused"] * 3 and met, lines
-    assert [row[-1] for row in rows] == ["met"] * 6
+    assert verdicts == ["read"] * 4 + ["refused"] * 3 and met, lines
+    assert [row[-1] for row in rows] == ["met"] * 7

@@ -66,15 +66,8 @@ def _parse_blocks(header_line: str, blocks: Iterable[tuple[int, bytes]]) -> Repl
     total = 0
     for first, block in blocks:
         covered = _canonical_block(block, total, runs, checkpoints)
-        if covered is not None:
-            total = covered
-            continue
-        for number, line in _block_lines(first, block):  # each as it can be read
-            covered = _canonical_block(line, total, runs, checkpoints)
-            if covered is None:
-                text = _text(line).rstrip("\n")
-                covered = _any_line(text, f"line {number}", total, runs, checkpoints, switches)
-            total = covered
+        total = covered if covered is not None else _by_halves(
+            list(_block_lines(first, block)), total, runs, checkpoints, switches)
     return finished(seed, config, runs, checkpoints, checkpoints.ticks(), program, total,
                    switches, players)
 
@@ -85,6 +78,25 @@ def _block_lines(number: int, block: bytes) -> Iterator[tuple[int, bytes]]:
     for offset, line in enumerate(block.split(b"\n")[:-1]):
         if line.strip():
             yield number + offset, line + b"\n"
+
+
+def _by_halves(lines: list[tuple[int, bytes]], total: int, runs: Runs,
+               checkpoints: Checkpoints, switches: list[Switch]) -> int:
+    """Lines (numbered) that could not be taken as one block: each half again as a block,
+    down to the single lines of another shape, which the JSON parser reads. A lab switch
+    every few hundred lines then costs a few more blocks, not every line alone; lines are
+    taken in order, so the first bad one is the one named. The ticks covered so far."""
+    if len(lines) == 1:
+        number, line = lines[0]
+        return _any_line(_text(line).rstrip("\n"), f"line {number}", total, runs,
+                         checkpoints, switches)
+    half = len(lines) // 2
+    for part in (lines[:half], lines[half:]) if lines else ():
+        covered = _canonical_block(b"".join(line for _, line in part), total, runs,
+                                   checkpoints)
+        total = covered if covered is not None else _by_halves(part, total, runs,
+                                                                checkpoints, switches)
+    return total
 
 
 _UNKNOWN_BITS = ~ALL_ACTIONS
@@ -215,12 +227,12 @@ def _first_line(handle: BinaryIO, size: int) -> tuple[int, str]:
     raise ReplayError("the file is empty")
 
 
-BLOCK_BYTES = 2**18  # some 570 of the program's lines
+BLOCK_BYTES = 2**16  # some 140 of the program's lines
 
 
 def _blocks(handle: BinaryIO, number: int) -> Iterator[tuple[int, bytes]]:
-    """The rest of the file, from line `number`, in blocks of whole lines (a quarter of a
-    megabyte or so), each with its first line's number. A last line with no newline (a
+    """The rest of the file, from line `number`, in blocks of whole lines (64 KB or so),
+    each with its first line's number. A last line with no newline (a
     write that was interrupted) is left out; a line longer than a checkpoint's may be is
     never kept whole."""
     pending = b""
