@@ -73,14 +73,20 @@ def test_a_carriage_return_inside_a_line_is_white_space_on_the_json_path_too(wri
     assert _outcome(path) == _by_json_alone(path) == load(written)
 
 
-def test_a_line_of_another_shape_costs_only_itself_the_block_reader(tmp_path):
-    """A lab switch (which the JSON parser reads) among 430 lines: the block holding it is
-    read again by halves, so a few dozen blocks take every other line, not each alone."""
+@pytest.mark.parametrize("odd", ["lab switch", "fields sorted"])
+def test_a_line_of_another_shape_costs_only_itself_the_block_reader(tmp_path, odd):
+    """One line the JSON parser reads among 430: a lab switch (cut out of its block as a
+    block of its own) or fields in another order (its block read again by halves). Either
+    way a few dozen blocks take every other line, not each alone, and the replay is the
+    one the JSON parser alone reads."""
     longest_replay(tmp_path / "long.json", tmp_path, size=200_000)
     objects = [json.loads(line) for line in (tmp_path / "long.json").read_text().splitlines()]
-    objects[200]["lab"] = [[objects[199]["checkpoint"]["tick"], {"speed": 1}]]
-    path = tmp_path / "lab.json"
-    path.write_text("".join(json.dumps(o, separators=(",", ":")) + "\n" for o in objects))
+    if odd == "lab switch":
+        objects[200]["lab"] = [[objects[199]["checkpoint"]["tick"], {"speed": 1}]]
+    lines = [json.dumps(o, separators=(",", ":"), sort_keys=(i == 200 and odd != "lab switch"))
+             + "\n" for i, o in enumerate(objects)]
+    path = tmp_path / "odd.json"
+    path.write_text("".join(lines))
     read_by_json = []
 
     def counted(line, where, *rest):
@@ -93,7 +99,8 @@ def test_a_line_of_another_shape_costs_only_itself_the_block_reader(tmp_path):
         replay = load(path)
     assert read_by_json == ["line 201"] and len(objects) > 400
     assert blocks.call_count < 40, blocks.call_count  # (one a line: over 400)
-    assert replay == _by_json_alone(path) and replay.switches == [(11940, {"speed": 1})]
+    assert replay == _by_json_alone(path)
+    assert replay.switches == ([(11940, {"speed": 1})] if odd == "lab switch" else [])
 
 
 @pytest.mark.parametrize("block_bytes", [1, 7, 460, 4096])
@@ -112,11 +119,11 @@ def compact_mutants(draw, path: Path) -> str:
     """A file in the program's own shape (no spaces) with one change: any value anywhere
     in a checkpoint's line or in an input run (numbers at every edge), one character, a run
     split in two (the same inputs, unless a part is empty), a line's fields reordered, a
-    blank line, or white space put between a line's tokens."""
+    blank line, white space put between a line's tokens, or a lab switch."""
     objects = [json.loads(line) for line in path.read_text().splitlines()]
     index = draw(st.integers(2, len(objects) - 1))  # (line 2 has no input runs)
     how = draw(st.sampled_from(["value", "run", "char", "split", "reorder", "blank",
-                                "spaced"]))
+                                "spaced", "lab"]))
     if how == "run":
         run = draw(st.sampled_from(objects[index]["inputs"]))
         run[draw(st.integers(0, 1))] = draw(st.sampled_from([0, 32, 2**63, MAX_TICKS + 1]))
@@ -136,6 +143,10 @@ def compact_mutants(draw, path: Path) -> str:
         bits, count = runs[at]
         part = draw(st.integers(0, count))  # (a part of 0 ticks: no file may hold one)
         runs[at:at + 1] = [[bits, part], [bits, count - part]]
+    elif how == "lab":  # a switch, its tick inside the line's span or just outside it
+        start = objects[index - 1]["checkpoint"]["tick"]
+        tick = draw(st.integers(start - 1, objects[index]["checkpoint"]["tick"]))
+        objects[index]["lab"] = [[tick, {"speed": draw(st.integers(0, 2))}]]
     elif how == "reorder":
         objects[index] = dict(reversed(objects[index].items()))
     text = [json.dumps(o, separators=(",", ":")) + "\n" for o in objects]

@@ -64,12 +64,30 @@ def _parse_blocks(header_line: str, blocks: Iterable[tuple[int, bytes]]) -> Repl
     players = players_of(header)
     runs, checkpoints, switches = Runs(), Checkpoints(), []
     total = 0
-    for first, block in blocks:
+    for first, block in _switches_apart(blocks):
         covered = _canonical_block(block, total, runs, checkpoints)
         total = covered if covered is not None else _by_halves(
             list(_block_lines(first, block)), total, runs, checkpoints, switches)
     return finished(seed, config, runs, checkpoints, checkpoints.ticks(), program, total,
                    switches, players)
+
+
+def _switches_apart(blocks: Iterable[tuple[int, bytes]]) -> Iterator[tuple[int, bytes]]:
+    """The blocks with each line that holds a lab switch (the one line of its own the
+    program writes, which the JSON parser reads) cut out as a block of its own, so the
+    lines around it are still read a block at a time."""
+    for number, block in blocks:
+        start = 0
+        while (at := block.find(b'"lab"', start)) >= 0:
+            line = block.rfind(b"\n", start, at) + 1 or start  # (the line holding it)
+            end = block.find(b"\n", at) + 1
+            for part in (block[start:line], block[line:end]):
+                if part:
+                    yield number, part
+                    number += part.count(b"\n")
+            start = end
+        if start < len(block):
+            yield number, block[start:]
 
 
 def _block_lines(number: int, block: bytes) -> Iterator[tuple[int, bytes]]:
