@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import json
 import re
+import sys
 from binascii import unhexlify
 from itertools import accumulate, repeat
 from typing import NamedTuple
@@ -41,8 +42,12 @@ _SHAPE = (
 _LINE = re.compile(_SHAPE.replace(b"~", b""), re.MULTILINE)
 # The same with a little white space anywhere JSON allows it (as `json.dumps` writes by
 # default, or a line ending in \r\n): more than this, and the JSON parser reads the line.
-# Tried only when a block is not all in the program's own shape (it is 2.4 times slower).
-_SPACED = re.compile(_SHAPE.replace(b"~", rb"[ \t\r]{0,8}"), re.MULTILINE)
+# Tried only when a block is not all in the program's own shape (it is about twice as slow).
+# (From Python 3.11 the gap's repeat is possessive: it never gives back white space it took,
+# and nothing after a gap starts with white space, so the matches are the same, found
+# sooner: 1.27x over the blocks of a spaced file, the median of 9 rounds in turn.)
+_GAP = rb"[ \t\r]{0,8}" + (b"+" if sys.version_info >= (3, 11) else b"")
+_SPACED = re.compile(_SHAPE.replace(b"~", _GAP), re.MULTILINE)
 _NOT_DIGITS = bytes(set(range(128)) - set(b"0123456789,\n"))  # what a line's values lose
 # More than a line holds besides its input runs (18-digit numbers and every gap included).
 REST = 1024 + 8 * _SHAPE.count(b"~")
