@@ -167,7 +167,7 @@ def reading_bench(rounds: int, size: int = MAX_FILE_BYTES) -> tuple[list[str], b
         verdict = "read" if runs[0][2] is not None else "refused"
         ok = statistics.median(seconds) < GOAL_SECONDS and statistics.median(megabytes) < GOAL_MB
         met &= ok
-        lines.append(f"   {label:<48} {verdict:<8} {statistics.median(seconds):5.2f} s "
+        lines.append(f"   {label:<52} {verdict:<8} {statistics.median(seconds):5.2f} s "
                      f"({min(seconds):.2f}..{max(seconds):.2f})  "
                      f"{statistics.median(megabytes):4.0f} MB ({min(megabytes):.0f}.."
                      f"{max(megabytes):.0f})  {'met' if ok else 'MISSED'}")
