@@ -12,11 +12,12 @@ peak memory, medians over the rounds with their spread, against the goal of 2 s 
 from __future__ import annotations
 
 import json
+import re
 import statistics
 import subprocess
 import sys
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 
 from invaders.app.recording import record_headless, save_replay
@@ -65,37 +66,48 @@ def longest_replay(path: Path, folder: Path, size: int = MAX_FILE_BYTES) -> int:
 def rewritten(source: Path, path: Path, size: int = MAX_FILE_BYTES, **dumps: object) -> int:
     """Write `source`'s lines to `path` as `json.dumps(**dumps)` writes them, as many whole
     lines as fit in `size` bytes. Returns the ticks they cover."""
-    ticks, written = 0, 0
-    with source.open() as lines, path.open("w") as out:
-        for line in lines:
-            data = json.loads(line)
-            text = json.dumps(data, **dumps) + "\n"  # type: ignore[arg-type]
-            written += len(text)
-            if written > size:
-                break
-            out.write(text)
-            ticks = data.get("checkpoint", {}).get("tick", ticks)
-    return ticks
+    with source.open() as lines:
+        return _capped(path, (json.dumps(json.loads(line), **dumps) + "\n"  # type: ignore[arg-type]
+                              for line in lines), size)
 
 
 def with_switches(source: Path, path: Path, every: int = 500, size: int = MAX_FILE_BYTES
                   ) -> int:
     """Write `source`'s lines to `path` with a lab switch on every `every`th (a line the
     JSON parser reads), as many whole lines as fit in `size` bytes. Returns the ticks."""
-    ticks, written = 0, 0
-    with source.open() as lines, path.open("w") as out:
+    def switched(lines: Iterable[str]) -> Iterator[str]:
+        start = 0  # the previous checkpoint's tick: the line's first
         for number, text in enumerate(lines):
             if number and number % every == 0:
-                data = json.loads(text)
-                data["lab"] = [[ticks, {"speed": 1}]]  # (from the line's first tick)
+                data = dict(json.loads(text), lab=[[start, {"speed": 1}]])
                 text = json.dumps(data, separators=(",", ":")) + "\n"
+            start = _tick(text, start)
+            yield text
+
+    with source.open() as lines:
+        return _capped(path, switched(lines), size)
+
+
+def _capped(path: Path, lines: Iterable[str], size: int) -> int:
+    """Write whole lines to `path` while they fit in `size` bytes: the last one's tick."""
+    ticks, written = 0, 0
+    with path.open("w") as out:
+        for text in lines:
             written += len(text)
             if written > size:
                 break
             out.write(text)
-            if number:
-                ticks = int(text.rsplit('"tick":', 1)[1].split(",", 1)[0])
+            ticks = _tick(text, ticks)
     return ticks
+
+
+_TICK = re.compile(r'"tick"\s*:\s*([0-9]+)')
+
+
+def _tick(line: str, otherwise: int) -> int:
+    """A checkpoint line's tick (the header has none: `otherwise`)."""
+    found = _TICK.search(line)
+    return int(found[1]) if found else otherwise
 
 
 def hostile_headers(folder: Path, header: str, size: int = MAX_FILE_BYTES
