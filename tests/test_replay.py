@@ -21,6 +21,7 @@ from invaders.app.play import Session, open_window
 from invaders.app.recording import Recorder, record_headless, save_replay
 from invaders.game.config import GameConfig
 from invaders.game.replay import Checkpoint, Replay, ReplayError, load, parse, parse_lines, run
+from invaders.game.statehash import combine
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
 from tests.helpers import FakeClock, windowed
@@ -173,6 +174,12 @@ def _first_run(lines: list) -> list:
     return next(line["inputs"][0] for line in lines[1:] if line["inputs"])
 
 
+def _rehashed(checkpoint: dict, **groups: str) -> None:
+    """Change some group digests and make the hash the digest of the groups as changed."""
+    checkpoint["groups"].update(groups)
+    checkpoint["hash"] = combine(checkpoint["groups"])
+
+
 BAD = {  # name: (change to the decoded lines, words the one-line error must hold)
     "wrong-format": (lambda d: d[0].update(format="chess-game"), "format"),
     "wrong-version": (lambda d: d[0].update(version=99), "version 99"),
@@ -184,6 +191,8 @@ BAD = {  # name: (change to the decoded lines, words the one-line error must hol
     "hash-not-hex": (lambda d: d[2]["checkpoint"].update(hash="z" * 32), "hex"),
     "hash-not-of-groups": (lambda d: d[2]["checkpoint"]["groups"].update(rack="0" * 16),
                            "hash does not match its groups"),
+    "group-newline": (lambda d: _rehashed(d[2]["checkpoint"], rack="0" * 16 + "\n"),
+                      "group rack is not 16 lower-case hex digits"),
     "count-key-newline": (lambda d: d[2]["checkpoint"]["counts"].update({"x\ny": 1}),
                           "counts must name exactly"),
     "no-seed": (lambda d: d[0].pop("seed"), "seed"),

@@ -46,8 +46,9 @@ MAX_V1_BYTES = 8 * 1024 * 1024
 HEADER_KEYS = frozenset({"format", "version", "program", "seed", "config", "players"})
 V1_KEYS = HEADER_KEYS - {"players"} | {"ticks", "inputs", "checkpoints"}
 Switch = tuple[int, dict[str, Any]]  # a lab choice, and the tick before whose step it began
-HASH = re.compile(r"^[0-9a-f]{32}$")
-GROUP_HASH = re.compile(r"^[0-9a-f]{16}$")
+# (\Z, not $: $ also matches before a newline at the end, which a JSON string may hold)
+HASH = re.compile(r"[0-9a-f]{32}\Z")
+GROUP_HASH = re.compile(r"[0-9a-f]{16}\Z")
 
 
 class ReplayError(ValueError):
