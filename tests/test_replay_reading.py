@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from invaders.app.readbench import longest_replay, read_in_fresh_process, reading_bench
 from invaders.app.recording import record_headless, save_replay
-from invaders.game import canonical, replay_checks, replay_reading
+from invaders.game import canonical, json_block, replay_checks, replay_reading
 from invaders.game.checkpoint import Checkpoints
 from invaders.game.replay import MAX_FILE_BYTES, MAX_TICKS, ReplayError, load
 from invaders.game.runs import Runs
@@ -40,26 +40,68 @@ def _outcome(path: Path) -> object:
 
 
 def _by_json_alone(path: Path) -> object:
-    """The same, with the block reader turned off: every line through the JSON parser."""
-    with mock.patch.object(canonical, "read_block", return_value=None):
+    """The same, with both block readers turned off: every line through the JSON parser and
+    the field checks, one at a time."""
+    with mock.patch.object(canonical, "read_block", return_value=None), mock.patch.object(
+            json_block, "read_block", return_value=None):
+        return _outcome(path)
+
+
+def _without_single_lines(path: Path) -> object:
+    """What loading gives when no line may be read on its own (an AssertionError if one is)."""
+    with mock.patch.object(replay_reading, "_any_line", side_effect=AssertionError("a line")):
         return _outcome(path)
 
 
 def test_the_programs_own_lines_are_all_read_by_the_block_reader(written):
-    with mock.patch.object(replay_reading, "_any_line", side_effect=AssertionError("JSON")):
-        replay = load(written)
+    with mock.patch.object(json_block, "read_block", side_effect=AssertionError("JSON")):
+        replay = _without_single_lines(written)
     assert replay == _by_json_alone(written) and len(replay.checkpoints) == 16
 
 
-@pytest.mark.parametrize("separators, end", [((", ", ": "), "\n"), ((",", ":"), "\r\n")])
-def test_a_little_white_space_is_read_by_the_block_reader_too(written, tmp_path, separators,
-                                                              end):
-    """As `json.dumps` writes by default, or with Windows' line ends."""
+@pytest.mark.parametrize("sort_keys", [False, True])
+@pytest.mark.parametrize("separators, end", [((",", ":"), "\n"), ((", ", ": "), "\n"),
+                                             ((",", ":"), "\r\n")])
+def test_the_shapes_tools_write_are_read_by_the_block_reader_too(written, tmp_path,
+                                                                 separators, end, sort_keys):
+    """Fields sorted (as `sort_keys=True`, `jq -S` or Go write them) or not, spaced as
+    `json.dumps` writes by default, or with Windows' line ends."""
     path = tmp_path / "spaced.json"
-    path.write_bytes("".join(json.dumps(json.loads(line), separators=separators) + end
+    path.write_bytes("".join(json.dumps(json.loads(line), separators=separators,
+                                        sort_keys=sort_keys) + end
                              for line in written.read_text().splitlines()).encode())
-    with mock.patch.object(replay_reading, "_any_line", side_effect=AssertionError("JSON")):
-        assert load(path) == load(written)
+    with mock.patch.object(json_block, "read_block", side_effect=AssertionError("JSON")):
+        assert _without_single_lines(path) == load(written)
+
+
+SHAPES = {  # how other tools may write the same lines again
+    "fields sorted": lambda o: json.dumps(o, sort_keys=True, separators=(",", ":")),
+    "fields reversed": lambda o: json.dumps(_reversed(o)),
+    "wide gaps": lambda o: json.dumps(o, separators=(" \t" * 5 + "," + " " * 9,
+                                                     "\r" * 9 + ":" + " \t" * 5)),
+    "escaped names": lambda o: json.dumps(o).replace('"tick"', '"\\u0074ick"'),
+    "blank lines between": lambda o: json.dumps(o) + "\n \t\n",
+}
+
+
+def _reversed(value: object) -> object:
+    """The same JSON value with every object's fields in the opposite order."""
+    if isinstance(value, dict):
+        return {key: _reversed(item) for key, item in reversed(value.items())}
+    return value
+
+
+@pytest.mark.parametrize("shape", sorted(SHAPES))
+def test_lines_in_any_shape_json_allows_are_read_a_block_at_a_time(written, tmp_path, shape):
+    """Fields in another order, wide white space, escapes in names: the JSON block reader
+    takes whole blocks of them (no line is read on its own), the replay the same."""
+    path = tmp_path / "other.json"
+    header, *lines = written.read_text().splitlines()
+    path.write_text(header + "\n" + "".join(SHAPES[shape](json.loads(line)) + "\n"
+                                            for line in lines))
+    with mock.patch.object(canonical, "read_block", return_value=None):
+        replay = _without_single_lines(path)
+    assert replay == load(written) == _by_json_alone(path)
 
 
 def test_a_carriage_return_inside_a_line_is_white_space_on_the_json_path_too(written,
@@ -73,18 +115,18 @@ def test_a_carriage_return_inside_a_line_is_white_space_on_the_json_path_too(wri
     assert _outcome(path) == _by_json_alone(path) == load(written)
 
 
-@pytest.mark.parametrize("odd", ["lab switch", "fields sorted"])
-def test_a_line_of_another_shape_costs_only_itself_the_block_reader(tmp_path, odd):
-    """One line the JSON parser reads among 430: a lab switch (cut out of its block as a
-    block of its own) or fields in another order (its block read again by halves). Either
-    way a few dozen blocks take every other line, not each alone, and the replay is the
-    one the JSON parser alone reads."""
+@pytest.mark.parametrize("escaped", [False, True])
+def test_a_line_read_on_its_own_costs_only_itself_the_block_reader(tmp_path, escaped):
+    """One line the JSON parser reads on its own among 430: a lab switch, cut out of its
+    block as a block of its own, or (its name escaped, so not found by the cut) its block
+    read again by halves. Either way a few dozen blocks take every other line, not each
+    alone, and the replay is the one the JSON parser alone reads."""
     longest_replay(tmp_path / "long.json", tmp_path, size=200_000)
     objects = [json.loads(line) for line in (tmp_path / "long.json").read_text().splitlines()]
-    if odd == "lab switch":
-        objects[200]["lab"] = [[objects[199]["checkpoint"]["tick"], {"speed": 1}]]
-    lines = [json.dumps(o, separators=(",", ":"), sort_keys=(i == 200 and odd != "lab switch"))
-             + "\n" for i, o in enumerate(objects)]
+    objects[200]["lab"] = [[objects[199]["checkpoint"]["tick"], {"speed": 1}]]
+    lines = [json.dumps(o, separators=(",", ":")) + "\n" for o in objects]
+    if escaped:
+        lines[200] = lines[200].replace('"lab"', '"\\u006cab"')
     path = tmp_path / "odd.json"
     path.write_text("".join(lines))
     read_by_json = []
@@ -99,8 +141,7 @@ def test_a_line_of_another_shape_costs_only_itself_the_block_reader(tmp_path, od
         replay = load(path)
     assert read_by_json == ["line 201"] and len(objects) > 400
     assert blocks.call_count < 40, blocks.call_count  # (one a line: over 400)
-    assert replay == _by_json_alone(path)
-    assert replay.switches == ([(11940, {"speed": 1})] if odd == "lab switch" else [])
+    assert replay == _by_json_alone(path) and replay.switches == [(11940, {"speed": 1})]
 
 
 @pytest.mark.parametrize("block_bytes", [1, 7, 460, 4096])
@@ -117,7 +158,8 @@ EDGES = [0, 1, -1, 31, 32, 2**63 - 1, 2**63, 10**18 - 1, 10**18, MAX_TICKS, MAX_
 @st.composite
 def compact_mutants(draw, path: Path) -> str:
     """A file in the program's own shape (no spaces) with one change: any value anywhere
-    in a checkpoint's line or in an input run (numbers at every edge), one character, a run
+    in a checkpoint's line or in an input run (numbers at every edge, a fraction or a truth
+    value equal to the number there, a digest a digit short or long), one character, a run
     split in two (the same inputs, unless a part is empty), a line's fields reordered, a
     blank line, white space put between a line's tokens, or a lab switch."""
     objects = [json.loads(line) for line in path.read_text().splitlines()]
@@ -136,7 +178,9 @@ def compact_mutants(draw, path: Path) -> str:
             if not (isinstance(child, dict | list) and child) or draw(st.booleans()):
                 break
             parent = child
-        parent[key] = draw(st.one_of(st.sampled_from(EDGES), st.integers()))
+        twins = ([float(child), bool(child)] if type(child) is int  # (equal to it)
+                 else [child[:-1], child + "0"] if type(child) is str else [])
+        parent[key] = draw(st.one_of(st.sampled_from(EDGES + twins), st.integers()))
     elif how == "split":
         runs = objects[index]["inputs"]
         at = draw(st.integers(0, len(runs) - 1))

@@ -1,18 +1,17 @@
-"""Checkpoint lines in the shape this program writes them, read a block at a time.
+"""Checkpoint lines in the shapes tools write them, read a block at a time.
 
 Reading a replay near the size limit (145,000 checkpoint lines) through the JSON parser, a
 check of every field and a Checkpoint object a line took 16 s and 520 MB. The lines this
 program writes all have one shape, so a block of them (64 KB, some 140 lines) is read by
-one regular expression and its fields taken a column at a time: about 8 microseconds a
+one regular expression and its fields taken a column at a time: about 9 microseconds a
 line. Only the shape is read here, and the one fact that needs no limit: each hash is the
-digest of its groups. The same shape with a little white space between its tokens (as
-`json.dumps` writes by default, or Windows' line ends) is read the same way. A block of
-which any line has another shape (fields in another order, a lab switch, a number of more
-than 18 digits, a blank line, more white space) is read again by halves, down to the
-lines of another shape, which the JSON parser reads (and says what is wrong with).
+digest of its groups. The same lines with every object's fields sorted (as tools that sort
+them write them), or with a little white space between tokens (as `json.dumps` writes by
+default, or Windows' line ends), are read the same way, by a pattern of their own. A block
+of which any line has another shape is left to the JSON block reader (json_block.py).
 
-A line that matches is, as JSON, an object of exactly these fields in this order, its
-numbers whole and below 2**63, its digests lower-case hex, no escapes.
+A line that matches is, as JSON, an object of exactly these fields in one of these orders,
+its numbers whole and below 2**63, its digests lower-case hex, no escapes.
 """
 
 from __future__ import annotations
@@ -21,6 +20,7 @@ import json
 import re
 import sys
 from binascii import unhexlify
+from collections.abc import Sequence
 from itertools import accumulate, repeat
 from typing import NamedTuple
 
@@ -29,28 +29,55 @@ from invaders.game.statehash import GROUPS, LISTED, digest_listed
 
 _NUMBER = rb"(?:0|[1-9][0-9]{0,17})"
 _RUN = rb"\[~%s~,~%s~\]" % (_NUMBER, _NUMBER)
-# The line as the program writes it, `~` where JSON allows white space.
-_SHAPE = (
-    rb'^~\{~"inputs"~:~\[~((?:%s(?:~,~%s)*)?)~\]~,~"checkpoint"~:~\{~"tick"~:~(%s)~,~'
-    % (_RUN, _RUN, _NUMBER)
-    + rb'"hash"~:~"([0-9a-f]{32})"~,~'
-    + rb'"(score"~:~%s~,~"ships"~:~%s~,~"wave"~:~%s~,~"counts"~:~\{~' % ((_NUMBER,) * 3)
-    + b"~,~".join(b'"%s"~:~%s' % (name.encode(), _NUMBER) for name in COUNT_NAMES)
-    + rb'~\})~,~"groups"~:~\{~'
-    + b"~,~".join(b'"%s"~:~"([0-9a-f]{16})"' % name.encode() for name in GROUPS)
-    + rb"~\}~\}~\}~$")
-_LINE = re.compile(_SHAPE.replace(b"~", b""), re.MULTILINE)
-# The same with a little white space anywhere JSON allows it (as `json.dumps` writes by
-# default, or a line ending in \r\n): more than this, and the JSON parser reads the line.
-# Tried only when a block is not all in the program's own shape (it is about twice as slow).
+# Each value of a line, in the order its columns are taken (counts and groups share names).
+COLUMNS = ("inputs", "tick", "hash", "score", "ships", "wave",
+           *[f"count_{name}" for name in COUNT_NAMES], *[f"group_{name}" for name in GROUPS])
+
+
+def _value(column: str, pattern: bytes) -> bytes:
+    return rb"(?P<%s>%s)" % (column.encode(), pattern)
+
+
+def _object(fields: dict[str, bytes], sort: bool) -> bytes:
+    """A JSON object's pattern from its fields' patterns, in their order or sorted by name,
+    `~` where JSON allows white space."""
+    names = sorted(fields) if sort else list(fields)
+    return rb"\{~%s~\}" % b"~,~".join(b'"%s"~:~%s' % (name.encode(), fields[name])
+                                        for name in names)
+
+
+def _shape(sort: bool) -> bytes:
+    """A checkpoint's line as the program writes it, or with every object's fields sorted
+    (as `sort_keys=True`, `jq -S` and Go's maps write them), a named group a value."""
+    counts = {name: _value(f"count_{name}", _NUMBER) for name in COUNT_NAMES}
+    groups = {name: b'"%s"' % _value(f"group_{name}", rb"[0-9a-f]{16}") for name in GROUPS}
+    checkpoint = {"tick": _value("tick", _NUMBER),
+                  "hash": b'"%s"' % _value("hash", rb"[0-9a-f]{32}"),
+                  **{name: _value(name, _NUMBER) for name in ("score", "ships", "wave")},
+                  "counts": _object(counts, sort), "groups": _object(groups, sort)}
+    line = {"inputs": rb"\[~%s~\]" % _value("inputs", rb"(?:%s(?:~,~%s)*)?" % (_RUN, _RUN)),
+            "checkpoint": _object(checkpoint, sort)}
+    return rb"^~%s~$" % _object(line, sort)
+
+
+# A little white space anywhere JSON allows it (as `json.dumps` writes by default, or a line
+# ending in \r\n): more than this, and the JSON block reader reads the line.
 # (From Python 3.11 the gap's repeat is possessive: it never gives back white space it took,
 # and nothing after a gap starts with white space, so the matches are the same, found
 # sooner: 1.27x over the blocks of a spaced file, the median of 9 rounds in turn.)
 _GAP = rb"[ \t\r]{0,8}" + (b"+" if sys.version_info >= (3, 11) else b"")
-_SPACED = re.compile(_SHAPE.replace(b"~", _GAP), re.MULTILINE)
-_NOT_DIGITS = bytes(set(range(128)) - set(b"0123456789,\n"))  # what a line's values lose
+
+
+def _compiled(sort: bool, gap: bytes) -> tuple[re.Pattern[bytes], list[int]]:
+    """A shape's pattern, and where each of COLUMNS is in its matches' groups."""
+    pattern = re.compile(_shape(sort).replace(b"~", gap), re.MULTILINE)
+    return pattern, [pattern.groupindex[column] - 1 for column in COLUMNS]
+
+
+# Tried in turn: the program's own shape first (with white space it is about twice as slow).
+_SHAPES = [_compiled(sort, gap) for sort in (False, True) for gap in (b"", _GAP)]
 # More than a line holds besides its input runs (18-digit numbers and every gap included).
-REST = 1024 + 8 * _SHAPE.count(b"~")
+REST = 1024 + 8 * _shape(False).count(b"~")
 
 
 class Block(NamedTuple):
@@ -58,25 +85,22 @@ class Block(NamedTuple):
     bits: list[int]  # every input run's bits, in order
     counts: list[int]  # and its count
     ends: list[int]  # the input ticks the block covers up to each line's end
-    most_runs: int  # the length of the longest line's input runs, as text
+    longest: int  # at least the length of its longest line
     ticks: list[int]  # each checkpoint's tick
     values: list[bytes]  # and its other numbers, as Checkpoints keeps them
     digests: list[bytes]  # each of Checkpoints' DIGESTS, a column each (bytes end to end)
 
 
 def read_block(block: bytes) -> Block | None:
-    """The block's lines (each ending in a newline) as columns, when every line has the
-    shape this program writes and every hash is the digest of its groups; else None."""
-    lines = block.count(b"\n")
-    rows = _LINE.findall(block) if _LINE.match(block) else []  # (a match: a whole line)
-    if len(rows) != lines:
-        rows = _SPACED.findall(block) if _SPACED.match(block) else []
-    if not rows or len(rows) != lines:  # a line of another shape
+    """The block's lines (each ending in a newline) as columns, when every line has one of
+    the shapes and every hash is the digest of its groups; else None."""
+    columns = _columns(block)
+    if columns is None:  # a line of another shape
         return None
-    runs, ticks, hashes, values, *groups = zip(*rows, strict=True)  # the columns
-    digests = [unhexlify(b"".join(column)) for column in (hashes, *groups)]
-    listed = map(LISTED.__mod__, zip(*groups, strict=True))  # each line's, as hashed
-    if b"".join(map(digest_listed, listed)) != digests[0]:
+    runs, ticks, hashes, *columns = columns
+    numbers, groups = columns[:-len(GROUPS)], columns[-len(GROUPS):]
+    digests = hashed(hashes, groups)
+    if digests is None:
         return None
     # Every run's bits and count in turn (each already read as a JSON number), then the
     # ticks they cover up to each line's end.
@@ -84,5 +108,25 @@ def read_block(block: bytes) -> Block | None:
     runs_ended = accumulate(map(bytes.count, runs, repeat(b"[")))
     covered = [0, *accumulate(flat[1::2])]
     return Block(flat[0::2], flat[1::2], [covered[end] for end in runs_ended],
-                 max(map(len, runs)), [*map(int, ticks)],
-                 b"\n".join(values).translate(None, _NOT_DIGITS).split(b"\n"), digests)
+                 max(map(len, runs)) + REST, [*map(int, ticks)],
+                 [*map(b",".join, zip(*numbers, strict=True))], digests)
+
+
+def _columns(block: bytes) -> list[tuple[bytes, ...]] | None:
+    """The lines' values, a column each in COLUMNS' order, when all have one of the shapes."""
+    lines = block.count(b"\n")
+    for pattern, taken in _SHAPES:
+        rows = pattern.findall(block) if pattern.match(block) else []  # (a match: a line)
+        if rows and len(rows) == lines:
+            matched = [*zip(*rows, strict=True)]
+            return [matched[index] for index in taken]
+    return None
+
+
+def hashed(hashes: Sequence[bytes], groups: Sequence[Sequence[bytes]]) -> list[bytes] | None:
+    """The digests' bytes, a column each (the hash's, then each group's in GROUPS' order),
+    from their hex (lower case, of the right lengths): None unless every hash is the digest
+    of its groups."""
+    digests = [unhexlify(b"".join(column)) for column in (hashes, *groups)]
+    listed = map(LISTED.__mod__, zip(*groups, strict=True))  # each line's, as hashed
+    return digests if b"".join(map(digest_listed, listed)) == digests[0] else None

@@ -56,7 +56,7 @@ class Checkpoint:
 VALUES = ("score", "ships", "wave", *COUNT_NAMES)  # whole numbers from 0 to 2**63 - 1
 DIGESTS = ("hash", *GROUPS)  # 16 bytes for the hash, 8 for each group
 _WIDTHS = (16, *[8] * len(GROUPS))
-_VALUES_TEXT = b",".join([b"%d"] * len(VALUES))
+VALUES_TEXT = b",".join([b"%d"] * len(VALUES))  # a checkpoint's VALUES as Checkpoints keeps them
 
 
 class Checkpoints(Sequence[Checkpoint]):
@@ -76,7 +76,7 @@ class Checkpoints(Sequence[Checkpoint]):
         counts, groups = checkpoint.counts, checkpoint.groups
         numbers = (checkpoint.score, checkpoint.ships, checkpoint.wave,
                    *[counts[name] for name in COUNT_NAMES])
-        self.extend_columns([checkpoint.tick], [_VALUES_TEXT % numbers], [
+        self.extend_columns([checkpoint.tick], [VALUES_TEXT % numbers], [
             bytes.fromhex(checkpoint.hash), *[bytes.fromhex(groups[name]) for name in GROUPS]])
 
     def extend_columns(self, ticks: Sequence[int], values: Sequence[bytes],

@@ -2,9 +2,12 @@
 
 Only a regular file up to the size limit is read. The header (or a whole version-1 file) is
 read first, bounded; the rest a block of whole lines at a time, so a file's text is never
-held whole and a line too long is never kept. Lines in the shape this program writes
-are read a block at a time (canonical.py); any other line through the JSON parser and the
-field checks (replay_checks.py), with the same result. The replay is kept packed
+held whole and a line too long is never kept. Each block is read whole by a regular
+expression when its lines are in a shape tools write (canonical.py), else by the JSON parser
+and checks a column at a time (json_block.py); a block neither takes (a lab switch, a value
+out of place) again by halves, down to the lines that are read one by one through the JSON
+parser and every field's check (replay_checks.py), which name any problem: the same result
+by every way. The replay is kept packed
 (checkpoint.py, runs.py): a replay at the size limit takes memory in proportion to what it
 means, not to the file's size.
 """
@@ -18,7 +21,7 @@ from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any, BinaryIO
 
-from invaders.game import canonical
+from invaders.game import canonical, json_block
 from invaders.game.actions import ALL_ACTIONS
 from invaders.game.checkpoint import Checkpoints
 from invaders.game.replay_checks import (
@@ -65,7 +68,7 @@ def _parse_blocks(header_line: str, blocks: Iterable[tuple[int, bytes]]) -> Repl
     runs, checkpoints, switches = Runs(), Checkpoints(), []
     total = 0
     for first, block in _switches_apart(blocks):
-        covered = _canonical_block(block, total, runs, checkpoints)
+        covered = _block(block, total, runs, checkpoints)
         total = covered if covered is not None else _by_halves(
             list(_block_lines(first, block)), total, runs, checkpoints, switches)
     return finished(seed, config, runs, checkpoints, checkpoints.ticks(), program, total,
@@ -101,7 +104,7 @@ def _block_lines(number: int, block: bytes) -> Iterator[tuple[int, bytes]]:
 def _by_halves(lines: list[tuple[int, bytes]], total: int, runs: Runs,
                checkpoints: Checkpoints, switches: list[Switch]) -> int:
     """Lines (numbered) that could not be taken as one block: each half again as a block,
-    down to the single lines of another shape, which the JSON parser reads. A lab switch
+    down to the single lines neither block reader takes, read one by one. A lab switch
     every few hundred lines then costs a few more blocks, not every line alone; lines are
     taken in order, so the first bad one is the one named. The ticks covered so far."""
     if len(lines) == 1:
@@ -110,7 +113,7 @@ def _by_halves(lines: list[tuple[int, bytes]], total: int, runs: Runs,
                          checkpoints, switches)
     half = len(lines) // 2
     for part in (lines[:half], lines[half:]) if lines else ():
-        covered = _canonical_block(b"".join(line for _, line in part), total, runs,
+        covered = _block(b"".join(line for _, line in part), total, runs,
                                    checkpoints)
         total = covered if covered is not None else _by_halves(part, total, runs,
                                                                 checkpoints, switches)
@@ -120,16 +123,16 @@ def _by_halves(lines: list[tuple[int, bytes]], total: int, runs: Runs,
 _UNKNOWN_BITS = ~ALL_ACTIONS
 
 
-def _canonical_block(block: bytes, total: int, runs: Runs,
+def _block(block: bytes, total: int, runs: Runs,
                      checkpoints: Checkpoints) -> int | None:
-    """Take a block of whole lines when each is in the shape this program writes (a little
-    white space allowed) and every value in it is good: the ticks covered so far. None
-    (having taken nothing) for any other block, whose lines are read again one by one."""
-    read = canonical.read_block(block)
+    """Take a block of whole lines when either block reader takes it and every value in it
+    is good: the ticks covered so far. None (having taken nothing) for any other block,
+    whose lines are read again by halves."""
+    read = canonical.read_block(block) or json_block.read_block(block)
     if read is None:
         return None
     ends = [total + end for end in read.ends]
-    good = (read.most_runs + canonical.REST <= MAX_LINE_BYTES
+    good = (read.longest <= MAX_LINE_BYTES
             and len(runs) + len(read.bits) <= MAX_RUNS
             and ends == read.ticks and ends[-1] <= MAX_TICKS
             and min(read.counts, default=1) > 0

@@ -1,0 +1,104 @@
+"""Checkpoint lines in any shape JSON allows, read a block at a time.
+
+The lines this program writes are read by a regular expression (canonical.py). The same
+lines written again by another tool may have their fields in another order (sorted, as
+`sort_keys=True`, `jq -S` and Go's maps write them), more white space, or escapes. A block
+of such lines is parsed a line at a time by the JSON parser alone, then checked and taken a
+column at a time, each step a single call over the block's lines (map, itemgetter, join, a
+regular expression), as canonical.py takes its columns. Nothing is taken here that reading
+the lines one by one (replay_reading.py) would refuse: a block with any line that is not a
+checkpoint's line with every field in place, every number whole and every digest of the
+right length gives None, and its lines are read one by one, which names the problem. The
+caller bounds the numbers and checks the limits, as for canonical.py's blocks.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from itertools import accumulate, chain, repeat
+from operator import itemgetter
+from typing import Any
+
+from invaders.game.canonical import Block, hashed
+from invaders.game.checkpoint import COUNT_NAMES, VALUES_TEXT
+from invaders.game.statehash import GROUPS
+
+_PARSER = json.JSONDecoder()  # (no hooks: every value is checked below, and none is float)
+_LINE = ("inputs", "checkpoint")
+_CHECKPOINT = ("tick", "hash", "score", "ships", "wave", "counts", "groups")
+_HASHES = re.compile(r"(?:[0-9a-f]{32},)*[0-9a-f]{32}")  # joined by commas
+_GROUP_DIGESTS = re.compile(r"(?:[0-9a-f]{16},)*[0-9a-f]{16}")
+
+
+class _NotTaken(Exception):
+    """A line of the block is not one this reader takes."""
+
+
+def read_block(block: bytes) -> Block | None:
+    """The block's lines that hold something (each ending in a newline) as columns, when
+    each is a checkpoint's line with every value in place and every hash the digest of its
+    groups; else None."""
+    try:  # (the lines that hold something, as the line-by-line reader has them)
+        texts = [line.decode() for line in block.split(b"\n") if line.strip()]
+        inputs, checkpoints = _fields([*map(_PARSER.decode, texts)], _LINE)
+        return Block(*_runs(inputs), max(map(len, texts)), *_checkpoints(checkpoints))
+    except (_NotTaken, UnicodeDecodeError, ValueError, RecursionError):
+        return None  # (a ValueError: the JSON parser's)
+
+
+def _fields(objects: list[Any], names: tuple[str, ...]) -> list[tuple[Any, ...]]:
+    """The objects' values of each of `names` (two or more), a column a name, when there
+    are objects and every one has exactly those fields."""
+    if {*map(type, objects)} != {dict} or {*map(len, objects)} != {len(names)}:
+        raise _NotTaken  # (no objects, too)
+    try:
+        return [*zip(*map(itemgetter(*names), objects), strict=True)]
+    except KeyError:
+        raise _NotTaken from None
+
+
+def _whole(numbers: list[Any]) -> list[int]:
+    """The numbers, when every one is whole, from 0 to 2**63 - 1 (the most a field holds)."""
+    if numbers and ({*map(type, numbers)} != {int} or min(numbers) < 0
+                    or max(numbers) >= 2**63):
+        raise _NotTaken
+    return numbers
+
+
+def _runs(inputs: tuple[Any, ...]) -> tuple[list[int], list[int], list[int]]:
+    """Every input run's bits and count in order, and the ticks they cover up to each
+    line's end, when each line's inputs are [bits, count] pairs of whole numbers."""
+    if {*map(type, inputs)} != {list}:
+        raise _NotTaken
+    runs = [*chain.from_iterable(inputs)]
+    if runs and ({*map(type, runs)} != {list} or {*map(len, runs)} != {2}):
+        raise _NotTaken
+    bits, counts = _whole([*map(itemgetter(0), runs)]), _whole([*map(itemgetter(1), runs)])
+    covered = [0, *accumulate(counts)]
+    return bits, counts, [covered[end] for end in accumulate(map(len, inputs))]
+
+
+def _checkpoints(checkpoints: tuple[Any, ...]) -> tuple[list[int], list[bytes], list[bytes]]:
+    """Each checkpoint's tick, its other numbers and its digests, as Checkpoints keeps them,
+    when each has exactly its fields, its numbers whole and its digests lower-case hex."""
+    ticks, hashes, score, ships, wave, counts, groups = _fields([*checkpoints], _CHECKPOINT)
+    numbers = [score, ships, wave, *_fields([*counts], COUNT_NAMES)]  # a column a field
+    _whole([*chain(ticks, *numbers)])
+    digests = hashed(_hex(hashes, _HASHES), [*map(_hex, _fields([*groups], GROUPS),
+                                                   repeat(_GROUP_DIGESTS))])
+    if digests is None:
+        raise _NotTaken
+    return [*ticks], [*map(VALUES_TEXT.__mod__, zip(*numbers, strict=True))], digests
+
+
+def _hex(digests: tuple[Any, ...], form: re.Pattern[str]) -> list[bytes]:
+    """Digests as bytes of hex, when each is a string of lower-case hex digits of the
+    length `form` (joined by commas) has them."""
+    try:
+        joined = ",".join(digests)
+    except TypeError:  # (one is no string)
+        raise _NotTaken from None
+    if not form.fullmatch(joined):
+        raise _NotTaken
+    return joined.encode().split(b",")
