@@ -13,7 +13,12 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from invaders.app.readbench import longest_replay, read_in_fresh_process, reading_bench
+from invaders.app.readbench import (
+    longest_replay,
+    read_in_fresh_process,
+    reading_bench,
+    reversed_fields,
+)
 from invaders.app.recording import record_headless, save_replay
 from invaders.game import canonical, json_block, replay_checks, replay_reading
 from invaders.game.checkpoint import Checkpoints
@@ -76,19 +81,12 @@ def test_the_shapes_tools_write_are_read_by_the_block_reader_too(written, tmp_pa
 
 SHAPES = {  # how other tools may write the same lines again
     "fields sorted": lambda o: json.dumps(o, sort_keys=True, separators=(",", ":")),
-    "fields reversed": lambda o: json.dumps(_reversed(o)),
+    "fields reversed": lambda o: json.dumps(reversed_fields(o)),
     "wide gaps": lambda o: json.dumps(o, separators=(" \t" * 5 + "," + " " * 9,
                                                      "\r" * 9 + ":" + " \t" * 5)),
     "escaped names": lambda o: json.dumps(o).replace('"tick"', '"\\u0074ick"'),
     "blank lines between": lambda o: json.dumps(o) + "\n \t\n",
 }
-
-
-def _reversed(value: object) -> object:
-    """The same JSON value with every object's fields in the opposite order."""
-    if isinstance(value, dict):
-        return {key: _reversed(item) for key, item in reversed(value.items())}
-    return value
 
 
 @pytest.mark.parametrize("shape", sorted(SHAPES))
@@ -268,5 +266,5 @@ def test_the_reading_bench_reads_the_valid_files_and_refuses_the_hostile_ones():
     rows = [line.split() for line in lines[1:]]
     verdicts = [row[row.index("s") - 2] for row in rows]  # (the word before the seconds)
     assert lines[0].startswith("reading files at the size limit (2,097,152 bytes), 1 rounds")
-    assert verdicts == ["read"] * 4 + ["refused"] * 3 and met, lines
-    assert [row[-1] for row in rows] == ["met"] * 7
+    assert verdicts == ["read"] * 5 + ["refused"] * 3 and met, lines
+    assert [row[-1] for row in rows] == ["met"] * 8
