@@ -4,6 +4,7 @@ in shadow, and reproducing a lab session from its recording. Windows on SDL's du
 from __future__ import annotations
 
 import dataclasses
+import json
 from pathlib import Path
 
 import pygame
@@ -219,6 +220,40 @@ def test_a_replay_with_a_switch_the_lab_cannot_make_is_refused_in_one_line(tmp_p
     assert main(["replay", str(path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "lab switch at tick 0: lab choice motion must be one of" in err[0]
+
+
+def test_a_recording_stops_at_the_lab_switch_limit_and_the_file_replays(tmp_path, capsys,
+                                                                         monkeypatch):
+    """The limit lowered to 5 switches (10,000 in the program): the checkpoint whose line
+    would hold the sixth is not written, recording stops with one line, and the file (4
+    switches) replays; two switches more in the file are refused by its reader."""
+    from invaders.app import recording
+    from invaders.game import replay_checks
+
+    for module in (recording, replay_checks):
+        monkeypatch.setattr(module, "MAX_SWITCHES", 5)
+    world, path = World(seed=3), tmp_path / "switched.json"
+    recorder = Recorder(world, path, save_every=60)
+    choices, apply = [Choice(speed=speed).to_dict() for speed in (1, 2)], replay_switch(
+        world.config)
+    for tick in range(1, 600):
+        if tick % 50 == 0:  # as the lab's panel does
+            apply(world, choices[tick // 50 % 2])
+            recorder.switch(choices[tick // 50 % 2])
+        world.step(0)
+        recorder.tick(0)
+    recorder.save()
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "recording stopped at tick 240" in err[0] and "5 lab" in err[0]
+    replay = load(path)  # (the line to 300 would have held switches 249 and 299)
+    assert [tick for tick, _ in replay.switches] == [49, 99, 149, 199]
+    assert run(replay, switch=replay_switch(replay.config))[0].mismatch is None
+    lines = path.read_text().splitlines()
+    extra = json.loads(lines[-1])
+    extra["lab"] += [[extra["checkpoint"]["tick"] - 1, choices[0]]] * 2
+    path.write_text("\n".join([*lines[:-1], json.dumps(extra)]) + "\n")
+    assert main(["replay", str(path)]) == 2
+    assert "more than 5 lab switches" in capsys.readouterr().err
 
 
 def test_run_reports_the_shadows_running_score_in_its_columns(tmp_path, capsys):

@@ -113,20 +113,40 @@ def test_a_carriage_return_inside_a_line_is_white_space_on_the_json_path_too(wri
     assert _outcome(path) == _by_json_alone(path) == load(written)
 
 
-@pytest.mark.parametrize("escaped", [False, True])
-def test_a_line_read_on_its_own_costs_only_itself_the_block_reader(tmp_path, escaped):
-    """One line the JSON parser reads on its own among 430: a lab switch, cut out of its
-    block as a block of its own, or (its name escaped, so not found by the cut) its block
-    read again by halves. Either way a few dozen blocks take every other line, not each
-    alone, and the replay is the one the JSON parser alone reads."""
+def _long_objects(tmp_path: Path) -> list[dict]:
+    """The lines of a valid replay of 430 lines (the header first), decoded."""
     longest_replay(tmp_path / "long.json", tmp_path, size=200_000)
-    objects = [json.loads(line) for line in (tmp_path / "long.json").read_text().splitlines()]
-    objects[200]["lab"] = [[objects[199]["checkpoint"]["tick"], {"speed": 1}]]
-    lines = [json.dumps(o, separators=(",", ":")) + "\n" for o in objects]
-    if escaped:
-        lines[200] = lines[200].replace('"lab"', '"\\u006cab"')
-    path = tmp_path / "odd.json"
-    path.write_text("".join(lines))
+    return [json.loads(line) for line in (tmp_path / "long.json").read_text().splitlines()]
+
+
+@pytest.mark.parametrize("escaped", [False, True])
+def test_lines_with_lab_switches_cost_only_themselves_the_block_readers(tmp_path, escaped):
+    """A lab switch every 50 lines, its name written plainly (the line cut out of its block
+    and read on its own, the rest left whole to the regular expressions) or escaped (its
+    block read whole by the JSON block reader): the replay is the one the JSON parser
+    alone reads."""
+    objects = _long_objects(tmp_path)
+    for index in range(50, len(objects), 50):
+        objects[index]["lab"] = [[objects[index - 1]["checkpoint"]["tick"], {"speed": 1}]]
+    text = "".join(json.dumps(o, separators=(",", ":")) + "\n" for o in objects)
+    path = tmp_path / "switched.json"
+    path.write_text(text.replace('"lab"', '"\\u006cab"') if escaped else text)
+    with mock.patch.object(replay_reading, "_any_line", wraps=replay_reading._any_line
+                           ) as alone:
+        replay = load(path)
+    assert replay == _by_json_alone(path) and len(objects) > 400
+    assert [tick for tick, _ in replay.switches] == [60 * n - 60 for n in range(50, 430, 50)]
+    assert alone.call_count == (0 if escaped else len(replay.switches))
+
+
+def test_a_bad_line_costs_only_itself_the_block_reader(tmp_path):
+    """One bad line among 430 (its lab switch after its span): its block is read again by
+    halves, so a few dozen blocks take the lines before it, not each alone, and the line
+    read on its own is refused as the JSON parser alone refuses it."""
+    objects = _long_objects(tmp_path)
+    objects[200]["lab"] = [[objects[200]["checkpoint"]["tick"], {"speed": 1}]]
+    path = tmp_path / "bad.json"
+    path.write_text("".join(json.dumps(o, separators=(",", ":")) + "\n" for o in objects))
     read_by_json = []
 
     def counted(line, where, *rest):
@@ -136,10 +156,10 @@ def test_a_line_read_on_its_own_costs_only_itself_the_block_reader(tmp_path, esc
     _any_line = replay_reading._any_line
     with mock.patch.object(replay_reading, "_any_line", counted), mock.patch.object(
             canonical, "read_block", wraps=canonical.read_block) as blocks:
-        replay = load(path)
-    assert read_by_json == ["line 201"] and len(objects) > 400
-    assert blocks.call_count < 40, blocks.call_count  # (one a line: over 400)
-    assert replay == _by_json_alone(path) and replay.switches == [(11940, {"speed": 1})]
+        refused = _outcome(path)
+    assert read_by_json == ["line 201"]
+    assert blocks.call_count < 40, blocks.call_count  # (one a line: over 200)
+    assert refused == _by_json_alone(path) and "line 201 lab switch 0 tick" in str(refused)
 
 
 @pytest.mark.parametrize("block_bytes", [1, 7, 460, 4096])

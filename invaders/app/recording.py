@@ -21,6 +21,7 @@ from invaders.game.replay import (
     CHECKPOINT_EVERY,
     MAX_FILE_BYTES,
     MAX_RUNS,
+    MAX_SWITCHES,
     MAX_TICKS,
     Checkpoint,
     Replay,
@@ -41,9 +42,9 @@ class Recorder:
     Recording to a file keeps only what the next append needs (the lines not yet written),
     so its memory stays flat however long the game; without a file it keeps the whole
     replay (`finished()`). A recording stays inside the limits its reader keeps: when the
-    next checkpoint would take the file past `limit` bytes (or past the input runs or
-    ticks a replay may hold), recording stops there with one line saying so, and the file
-    replays up to its last checkpoint."""
+    next checkpoint would take the file past `limit` bytes (or past the input runs, lab
+    switches or ticks a replay may hold), recording stops there with one line saying so,
+    and the file replays up to its last checkpoint."""
 
     def __init__(self, world: World, path: str | Path | None = None,
                  save_every: int = 180, config: GameConfig | None = None,
@@ -63,6 +64,7 @@ class Recorder:
         self._unsaved: list[str] = [segment_line([], first)]
         self._bytes = len(self.replay.header_line()) + len(self._unsaved[0])  # in the file
         self._runs = 0  # input runs recorded
+        self._switched = 0  # lab switches recorded
         self._first_tick = self._last_tick = world.tick  # the last checkpoint's tick
         self._started = False
         self._saved_ticks = 0  # ticks the file on disk holds
@@ -100,6 +102,7 @@ class Recorder:
         checkpoint = Checkpoint.of(self.world)
         line = segment_line(self._segment, checkpoint, self._switches)
         if (self._bytes + len(line) > self.limit or self._runs > MAX_RUNS
+                or self._switched + len(self._switches) > MAX_SWITCHES
                 or checkpoint.tick - self._first_tick > MAX_TICKS):
             self._stop()
             return
@@ -108,14 +111,15 @@ class Recorder:
         self._unsaved.append(line)
         self._bytes += len(line)
         self._last_tick = checkpoint.tick
+        self._switched += len(self._switches)
         self._segment = []
         self._switches = []
 
     def _stop(self) -> None:
         """The limit reached: nothing more is recorded (the game goes on), said once."""
         self.stopped = (f"recording stopped at tick {self._last_tick}: a replay holds at most "
-                        f"{self.limit:,} bytes, {MAX_RUNS:,} input runs and {MAX_TICKS:,} "
-                        "ticks; the file replays up to there")
+                        f"{self.limit:,} bytes, {MAX_RUNS:,} input runs, {MAX_SWITCHES:,} lab "
+                        f"switches and {MAX_TICKS:,} ticks; the file replays up to there")
         where = f"{self.path}: " if self.path is not None else ""
         print(f"invaders: {where}{self.stopped}", file=sys.stderr)
 

@@ -22,7 +22,7 @@ import sys
 from binascii import unhexlify
 from collections.abc import Sequence
 from itertools import accumulate, repeat
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 from invaders.game.checkpoint import COUNT_NAMES
 from invaders.game.statehash import GROUPS, LISTED, digest_listed
@@ -89,6 +89,7 @@ class Block(NamedTuple):
     ticks: list[int]  # each checkpoint's tick
     values: list[bytes]  # and its other numbers, as Checkpoints keeps them
     digests: list[bytes]  # each of Checkpoints' DIGESTS, a column each (bytes end to end)
+    switches: list[tuple[int, Any]]  # each line's lab switches as JSON gives them, by index
 
 
 def read_block(block: bytes) -> Block | None:
@@ -109,7 +110,7 @@ def read_block(block: bytes) -> Block | None:
     covered = [0, *accumulate(flat[1::2])]
     return Block(flat[0::2], flat[1::2], [covered[end] for end in runs_ended],
                  max(map(len, runs)) + REST, [*map(int, ticks)],
-                 [*map(b",".join, zip(*numbers, strict=True))], digests)
+                 [*map(b",".join, zip(*numbers, strict=True))], digests, [])
 
 
 def _columns(block: bytes) -> list[tuple[bytes, ...]] | None:

@@ -38,11 +38,16 @@ class _NotTaken(Exception):
 def read_block(block: bytes) -> Block | None:
     """The block's lines that hold something (each ending in a newline) as columns, when
     each is a checkpoint's line with every value in place and every hash the digest of its
-    groups; else None."""
+    groups; else None. Lab switches are given as the JSON parser gives them, for the
+    caller to check as it checks a line's."""
     try:  # (the lines that hold something, as the line-by-line reader has them)
         texts = [line.decode() for line in block.split(b"\n") if line.strip()]
-        inputs, checkpoints = _fields([*map(_PARSER.decode, texts)], _LINE)
-        return Block(*_runs(inputs), max(map(len, texts)), *_checkpoints(checkpoints))
+        lines = [*map(_PARSER.decode, texts)]
+        switches = [(index, line.pop("lab")) for index, line in enumerate(lines)
+                    if type(line) is dict and "lab" in line]
+        inputs, checkpoints = _fields(lines, _LINE)
+        return Block(*_runs(inputs), max(map(len, texts)), *_checkpoints(checkpoints),
+                     switches)
     except (_NotTaken, UnicodeDecodeError, ValueError, RecursionError):
         return None  # (a ValueError: the JSON parser's)
 

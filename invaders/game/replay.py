@@ -24,6 +24,7 @@ from invaders.game.replay_format import (
     FORMAT,
     MAX_FILE_BYTES,
     MAX_RUNS,
+    MAX_SWITCHES,
     MAX_TICKS,
     VERSION,
     Replay,
@@ -34,7 +35,8 @@ from invaders.game.replay_format import (
 from invaders.game.replay_reading import load, parse_lines
 from invaders.game.world import World
 
-__all__ = ["CHECKPOINT_EVERY", "FORMAT", "MAX_FILE_BYTES", "MAX_RUNS", "MAX_TICKS", "VERSION",
+__all__ = ["CHECKPOINT_EVERY", "FORMAT", "MAX_FILE_BYTES", "MAX_RUNS", "MAX_SWITCHES",
+           "MAX_TICKS", "VERSION",
            "CheckResult", "Checkpoint", "Checkpoints", "Replay", "ReplayError", "Switch",
            "load", "parse", "parse_lines", "replay_paths", "run", "segment_line"]
 

@@ -155,8 +155,10 @@ def _bad_run(run: Any, name: str) -> None:
 def add_switches(listed: Any, where: str, start: int, end: int, out: list[Switch]) -> None:
     """Append checked lab switches: [tick, {name: word or number}], ticks in the line's
     span and increasing (their meaning is checked by whoever applies them)."""
-    need(isinstance(listed, list) and 0 < len(listed) <= MAX_SWITCHES,
-         f"{where} lab must be a list of 1 to {MAX_SWITCHES} [tick, choice] switches")
+    need(isinstance(listed, list) and len(listed) > 0,
+         f"{where} lab must be a list of [tick, choice] switches")
+    need(len(out) + len(listed) <= MAX_SWITCHES,
+         f"{where}: more than {MAX_SWITCHES:,} lab switches (a replay holds at most that)")
     for i, item in enumerate(listed):
         name = f"{where} lab switch {i}"
         need(isinstance(item, list) and len(item) == 2, f"{name} must be [tick, choice]")

@@ -34,7 +34,9 @@ MAX_TICKS = 10_000_000  # 46 hours of play: anything longer is a damaged file
 MAX_FILE_BYTES = 64 * 1024 * 1024  # about 8 million ticks of play
 MAX_RUNS = 1_000_000  # input changes; a recorded game makes one every 7 to 12 ticks
 MAX_DIGITS = 20  # the longest number a field holds (a 63-bit seed) has 19 digits
-MAX_SWITCHES = 1000  # lab switches in one line: a person presses keys a few times a second
+# Lab switches in a whole replay: each is a key pressed in the live lab (kept as objects,
+# a few hundred bytes each, so the limit bounds what a file of them can make a reader hold).
+MAX_SWITCHES = 10_000
 MAX_SWITCH_FIELDS = 16
 # Lines are bounded so that no parse of a structure not yet checked can be large: the
 # header (a config of a few hundred fields) and each checkpoint's line (at most a
