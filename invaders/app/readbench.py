@@ -3,11 +3,12 @@
 Files at the size limit (64 MB) are made in a temporary folder: the longest valid replay
 (the program's own lines, one a second of play, 8.7 million ticks), the same written with
 json.dumps' default spacing, with a lab switch every 500 lines (a line the JSON parser
-reads), with its fields sorted (as tools that sort them write them) and in reverse order (as
-no tool does: the JSON block reader reads it), and three hostile ones whose header holds
-64 MB of empty objects, of fractions or of fields. Each round reads each in a fresh process,
-taking turns; printed: the seconds `load` took and the process's peak memory, medians over
-the rounds with their spread, against the goal of 2 s and 100 MB.
+reads on its own), with its fields sorted (as tools that sort them write them), in reverse
+order (as no tool does: the JSON block reader reads it) and with the most lab switches a
+replay may hold, one a line from the start; and four hostile ones: a header holding 64 MB
+of empty objects, of fractions or of fields, and 64 MB of lab switches. Each round reads
+each in a fresh process, taking turns; printed: the seconds `load` took and the process's
+peak memory, medians over the rounds with their spread, against the goal of 2 s and 100 MB.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from invaders.app.recording import record_headless, save_replay
-from invaders.game.replay import MAX_FILE_BYTES
+from invaders.game.replay import MAX_FILE_BYTES, MAX_SWITCHES
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
 
@@ -83,21 +84,29 @@ def reversed_fields(value: Any) -> Any:
     return value
 
 
-def with_switches(source: Path, path: Path, every: int = 500, size: int = MAX_FILE_BYTES
-                  ) -> int:
-    """Write `source`'s lines to `path` with a lab switch on every `every`th (a line the
-    JSON parser reads), as many whole lines as fit in `size` bytes. Returns the ticks."""
+def with_switches(source: Path, path: Path, every: int = 500, size: int = MAX_FILE_BYTES,
+                  each: int = 1, most: int | None = None,
+                  choice: dict[str, Any] | None = None) -> int:
+    """Write `source`'s lines to `path` with `each` lab switches (to `choice`) on every
+    `every`th line (a line the JSON parser reads on its own), up to `most` lines with
+    switches, as many whole lines as fit in `size` bytes. Returns the ticks."""
     def switched(lines: Iterable[str]) -> Iterator[str]:
-        start = 0  # the previous checkpoint's tick: the line's first
+        start, holding = 0, 0  # the previous checkpoint's tick (the line's first), lines
         for number, text in enumerate(lines):
-            if number and number % every == 0:
-                data = dict(json.loads(text), lab=[[start, {"speed": 1}]])
+            if number and number % every == 0 and (most is None or holding < most):
+                data = dict(json.loads(text), lab=[[start, choice or _CHOICE]] * each)
                 text = json.dumps(data, separators=(",", ":")) + "\n"
+                holding += 1
             start = _tick(text, start)
             yield text
 
     with source.open() as lines:
         return _capped(path, switched(lines), size)
+
+
+_CHOICE = {"speed": 1}  # (a lab's choice: reading does not check what one means)
+# A choice long enough that its objects pass the count of objects a line may hold.
+_PADDED = {"speed": 1, "pad": "thirty-two characters at least"}
 
 
 def _capped(path: Path, lines: Iterable[str], size: int) -> int:
@@ -170,6 +179,9 @@ def reading_bench(rounds: int, size: int = MAX_FILE_BYTES) -> tuple[list[str], b
         switched, reordered = folder / "switched.json", folder / "reordered.json"
         spaced_ticks = rewritten(longest, spaced, size)
         switched_ticks = with_switches(longest, switched, size=size)
+        most, flood = folder / "most-switches.json", folder / "switches.json"
+        most_ticks = with_switches(longest, most, 1, size, most=MAX_SWITCHES)
+        with_switches(longest, flood, 1, size, each=1000, choice=_PADDED)
         compact = {"separators": (",", ":")}
         ordered_ticks = rewritten(longest, ordered, size, sort_keys=True, **compact)
         reordered_ticks = rewritten(longest, reordered, size, reversed_fields, **compact)
@@ -178,7 +190,9 @@ def reading_bench(rounds: int, size: int = MAX_FILE_BYTES) -> tuple[list[str], b
                  f"the same, a lab switch every 500 lines ({switched_ticks:,})": switched,
                  f"the same, fields sorted ({ordered_ticks:,})": ordered,
                  f"the same, fields in reverse order ({reordered_ticks:,})": reordered,
-                 **hostile_headers(folder, longest.open().readline().rstrip("\n"), size)}
+                 f"the same, {MAX_SWITCHES:,} lab switches first ({most_ticks:,})": most,
+                 **hostile_headers(folder, longest.open().readline().rstrip("\n"), size),
+                 f"{size / 2**20:.4g} MB of lab switches": flood}
         seen: dict[str, list[tuple[float, float, int | None]]] = {n: [] for n in files}
         for _ in range(rounds):
             for label, path in files.items():
