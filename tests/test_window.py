@@ -85,7 +85,8 @@ def test_a_replays_end_shows_the_verdict_and_enter_asks_for_a_game():
     for b in bits:
         changed.append(b)
     assert len(bits) == 240
-    assert _watch_to_the_end(changed).replay_verdict().startswith("DIFFERS FROM TICK ")
+    checkpoint = (first // 60 + 1) * 60  # the first checkpoint after the change
+    assert _watch_to_the_end(changed).replay_verdict() == f"DIFFERS FROM TICK {checkpoint}"
 
 
 def test_without_a_display_play_refuses_in_one_line():
