@@ -139,6 +139,23 @@ def test_lines_with_lab_switches_cost_only_themselves_the_block_readers(tmp_path
     assert alone.call_count == (0 if escaped else len(replay.switches))
 
 
+def test_a_run_of_lines_with_lab_switches_is_read_as_a_block(tmp_path):
+    """A hundred lines in a row each with a lab switch (the most a replay may hold is
+    10,000): cut out of their blocks together, the JSON block reader takes them, not the
+    JSON parser a line at a time; the replay is the one the JSON parser alone reads."""
+    objects = _long_objects(tmp_path)
+    for index in range(100, 200):
+        objects[index]["lab"] = [[objects[index - 1]["checkpoint"]["tick"], {"speed": 1}]]
+    path = tmp_path / "switched.json"
+    path.write_text("".join(json.dumps(o, separators=(",", ":")) + "\n" for o in objects))
+    with mock.patch.object(replay_reading, "_any_line", wraps=replay_reading._any_line
+                           ) as alone, mock.patch.object(
+            json_block, "read_block", wraps=json_block.read_block) as by_json:
+        replay = load(path)
+    assert replay == _by_json_alone(path) and len(replay.switches) == 100
+    assert alone.call_count <= 2 and by_json.call_count <= 4  # (a block's edge may cut one)
+
+
 def test_a_bad_line_costs_only_itself_the_block_reader(tmp_path):
     """One bad line among 430 (its lab switch after its span): its block is read again by
     halves, so a few dozen blocks take the lines before it, not each alone, and the line

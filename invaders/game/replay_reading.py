@@ -76,14 +76,17 @@ def _parse_blocks(header_line: str, blocks: Iterable[tuple[int, bytes]]) -> Repl
 
 
 def _switches_apart(blocks: Iterable[tuple[int, bytes]]) -> Iterator[tuple[int, bytes]]:
-    """The blocks with each line that holds a lab switch (the one line of its own the
-    program writes, which the regular expressions do not take) cut out as a block of its
-    own, so the lines around it are still read a block at a time by them."""
+    """The blocks with the lines that hold a lab switch (the one line of its own the
+    program writes, which the regular expressions do not take) cut out, each run of them
+    as a block of its own, so the lines around them are still read a block at a time by
+    the regular expressions, and a run of them by the JSON block reader."""
     for number, block in blocks:
         start = 0
         while (at := block.find(b'"lab"', start)) >= 0:
             line = block.rfind(b"\n", start, at) + 1 or start  # (the line holding it)
             end = block.find(b"\n", at) + 1
+            while (at := block.find(b'"lab"', end)) >= 0 and block.find(b"\n", end, at) < 0:
+                end = block.find(b"\n", at) + 1  # (the next line holds one too)
             for part in (block[start:line], block[line:end]):
                 if part:
                     yield number, part
