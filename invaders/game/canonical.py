@@ -68,10 +68,11 @@ def _shape(sort: bool) -> bytes:
 _GAP = rb"[ \t\r]{0,8}" + (b"+" if sys.version_info >= (3, 11) else b"")
 
 
-def _compiled(sort: bool, gap: bytes) -> tuple[re.Pattern[bytes], list[int]]:
-    """A shape's pattern, and where each of COLUMNS is in its matches' groups."""
+def _compiled(sort: bool, gap: bytes) -> tuple[re.Pattern[bytes], list[int], bool]:
+    """A shape's pattern, where each of COLUMNS is in its matches' groups, and whether it
+    allows white space."""
     pattern = re.compile(_shape(sort).replace(b"~", gap), re.MULTILINE)
-    return pattern, [pattern.groupindex[column] - 1 for column in COLUMNS]
+    return pattern, [pattern.groupindex[column] - 1 for column in COLUMNS], bool(gap)
 
 
 # Tried in turn: the program's own shape first (with white space it is about twice as slow).
@@ -114,9 +115,13 @@ def read_block(block: bytes) -> Block | None:
 
 
 def _columns(block: bytes) -> list[tuple[bytes, ...]] | None:
-    """The lines' values, a column each in COLUMNS' order, when all have one of the shapes."""
-    lines = block.count(b"\n")
-    for pattern, taken in _SHAPES:
+    """The lines' values, a column each in COLUMNS' order, when all have one of the shapes
+    (the shapes with white space tried only on a block that holds some: on a block of
+    lines of the program's shape but one, each would read all but that one again)."""
+    lines, spaced = block.count(b"\n"), any(map(block.__contains__, (b" ", b"\t", b"\r")))
+    for pattern, taken, gaps in _SHAPES:
+        if gaps and not spaced:
+            continue
         rows = pattern.findall(block) if pattern.match(block) else []  # (a match: a line)
         if rows and len(rows) == lines:
             matched = [*zip(*rows, strict=True)]
