@@ -8,8 +8,9 @@ column at a time, each step a single call over the block's lines (map, itemgette
 regular expression), as canonical.py takes its columns. Nothing is taken here that reading
 the lines one by one (replay_reading.py) would refuse: a block with any line that is not a
 checkpoint's line with every field in place, every number whole and every digest of the
-right length gives None, and its lines are read one by one, which names the problem. The
-caller bounds the numbers and checks the limits, as for canonical.py's blocks.
+right length gives None, and its lines are read again, down to the one that names the
+problem. The caller bounds the numbers, checks the limits (as for canonical.py's blocks)
+and checks the lab switches with the function that checks a line's.
 """
 
 from __future__ import annotations
