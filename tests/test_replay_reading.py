@@ -5,6 +5,7 @@ memory in proportion to what it means, not to its size."""
 from __future__ import annotations
 
 import contextlib
+import itertools
 import json
 from pathlib import Path
 from unittest import mock
@@ -22,7 +23,14 @@ from invaders.app.readbench import (
 from invaders.app.recording import record_headless, save_replay
 from invaders.game import canonical, json_block, replay_checks, replay_reading
 from invaders.game.checkpoint import Checkpoints
-from invaders.game.replay import MAX_FILE_BYTES, MAX_TICKS, ReplayError, load
+from invaders.game.replay import (
+    MAX_FILE_BYTES,
+    MAX_TICKS,
+    Checkpoint,
+    ReplayError,
+    load,
+    segment_line,
+)
 from invaders.game.runs import Runs
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
@@ -100,6 +108,40 @@ def test_lines_in_any_shape_json_allows_are_read_a_block_at_a_time(written, tmp_
     with mock.patch.object(canonical, "read_block", return_value=None):
         replay = _without_single_lines(path)
     assert replay == load(written) == _by_json_alone(path)
+
+
+def test_a_files_own_order_of_fields_is_learnt_from_its_first_block(tmp_path):
+    """Fields in an order no tool of ours writes, the same on every line (as a program
+    written elsewhere would write them): the JSON block reader reads the first block, its
+    order is learnt, and the regular expressions read the other blocks."""
+    path = tmp_path / "reversed.json"
+    header, *lines = _long_objects(tmp_path)
+    path.write_text("\n".join([json.dumps(header), *(json.dumps(reversed_fields(line))
+                                                     for line in lines)]) + "\n")
+    with mock.patch.object(json_block, "read_block", wraps=json_block.read_block) as by_json:
+        replay = _without_single_lines(path)
+    assert replay == _by_json_alone(path) and len(replay.checkpoints) == len(lines) > 400
+    assert by_json.call_count == 1
+
+
+def test_a_file_teaches_only_a_few_orders():
+    """Each order learnt is a pattern to compile (a few milliseconds): a file with a new
+    order in every block teaches the first few, then the JSON block reader reads it."""
+    orders = canonical.Orders()
+    line = json.loads(_checkpoint_line())
+    for names in itertools.permutations(canonical.OWN[2]):  # the counts' fields reordered
+        line["checkpoint"]["counts"] = {name: 0 for name in names}
+        orders.learn(json.dumps(line).encode() + b"\n")
+    orders.learn(b'{"inputs": []}\n')  # (no checkpoint's line: nothing learnt)
+    assert len(orders.orders) == 2 + canonical.Orders.LEARNED
+    assert orders.orders[:2] == [canonical.OWN, canonical.SORTED]
+    assert len(set(orders.orders)) == len(orders.orders)  # (each once)
+
+
+def _checkpoint_line() -> str:
+    """A checkpoint's line as the program writes it."""
+    world = World(seed=1)
+    return segment_line([[0, 1]], Checkpoint.of(world))
 
 
 def test_a_carriage_return_inside_a_line_is_white_space_on_the_json_path_too(written,
@@ -303,5 +345,5 @@ def test_the_reading_bench_reads_the_valid_files_and_refuses_the_hostile_ones():
     rows = [line.split() for line in lines[1:]]
     verdicts = [row[row.index("s") - 2] for row in rows]  # (the word before the seconds)
     assert lines[0].startswith("reading files at the size limit (2,097,152 bytes), 1 rounds")
-    assert verdicts == ["read"] * 6 + ["refused"] * 4 and met, lines
-    assert [row[-1] for row in rows] == ["met"] * 10
+    assert verdicts == ["read"] * 7 + ["refused"] * 4 and met, lines
+    assert [row[-1] for row in rows] == ["met"] * 11
