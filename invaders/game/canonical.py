@@ -27,6 +27,7 @@ from itertools import accumulate, repeat
 from typing import Any, NamedTuple
 
 from invaders.game.checkpoint import COUNT_NAMES
+from invaders.game.replay_format import CHECKPOINT_FIELDS, LINE_FIELDS
 from invaders.game.statehash import GROUPS, LISTED, digest_listed
 
 _NUMBER = rb"(?:0|[1-9][0-9]{0,17})"
@@ -43,9 +44,7 @@ def _value(column: str, pattern: bytes) -> bytes:
 # The order of each object's fields in a line: the line's, its checkpoint's, the
 # checkpoint's counts' and its groups'.
 Order = tuple[tuple[str, ...], tuple[str, ...], tuple[str, ...], tuple[str, ...]]
-OWN: Order = (("inputs", "checkpoint"),
-              ("tick", "hash", "score", "ships", "wave", "counts", "groups"),
-              COUNT_NAMES, GROUPS)
+OWN: Order = (LINE_FIELDS, CHECKPOINT_FIELDS, COUNT_NAMES, GROUPS)
 SORTED: Order = tuple(tuple(sorted(names)) for names in OWN)  # type: ignore[assignment]
 
 

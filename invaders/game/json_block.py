@@ -23,11 +23,10 @@ from typing import Any
 
 from invaders.game.canonical import Block, hashed
 from invaders.game.checkpoint import COUNT_NAMES, VALUES_TEXT
+from invaders.game.replay_format import CHECKPOINT_FIELDS, LINE_FIELDS
 from invaders.game.statehash import GROUPS
 
 _PARSER = json.JSONDecoder()  # (no hooks: every value is checked below, and none is float)
-_LINE = ("inputs", "checkpoint")
-_CHECKPOINT = ("tick", "hash", "score", "ships", "wave", "counts", "groups")
 _HASHES = re.compile(r"(?:[0-9a-f]{32},)*[0-9a-f]{32}")  # joined by commas
 _GROUP_DIGESTS = re.compile(r"(?:[0-9a-f]{16},)*[0-9a-f]{16}")
 
@@ -46,7 +45,7 @@ def read_block(block: bytes) -> Block | None:
         lines = [*map(_PARSER.decode, texts)]
         switches = [(index, line.pop("lab")) for index, line in enumerate(lines)
                     if type(line) is dict and "lab" in line]
-        inputs, checkpoints = _fields(lines, _LINE)
+        inputs, checkpoints = _fields(lines, LINE_FIELDS)
         return Block(*_runs(inputs), max(map(len, texts)), *_checkpoints(checkpoints),
                      switches)
     except (_NotTaken, UnicodeDecodeError, ValueError, RecursionError):
@@ -88,7 +87,7 @@ def _runs(inputs: tuple[Any, ...]) -> tuple[list[int], list[int], list[int]]:
 def _checkpoints(checkpoints: tuple[Any, ...]) -> tuple[list[int], list[bytes], list[bytes]]:
     """Each checkpoint's tick, its other numbers and its digests, as Checkpoints keeps them,
     when each has exactly its fields, its numbers whole and its digests lower-case hex."""
-    ticks, hashes, score, ships, wave, counts, groups = _fields([*checkpoints], _CHECKPOINT)
+    ticks, hashes, score, ships, wave, counts, groups = _fields([*checkpoints], CHECKPOINT_FIELDS)
     numbers = [score, ships, wave, *_fields([*counts], COUNT_NAMES)]  # a column a field
     _whole([*chain(ticks, *numbers)])
     digests = hashed(_hex(hashes, _HASHES), [*map(_hex, _fields([*groups], GROUPS),

@@ -18,6 +18,7 @@ from invaders.game.actions import ALL_ACTIONS
 from invaders.game.checkpoint import COUNT_NAMES, Checkpoint, Checkpoints
 from invaders.game.config import ConfigError, GameConfig
 from invaders.game.replay_format import (
+    CHECKPOINT_FIELDS,
     FORMAT,
     GROUP_HASH,
     HASH,
@@ -101,7 +102,7 @@ def _config(data: Any, cls: type = GameConfig, name: str = "config") -> Any:
         raise ReplayError(str(err)) from None
 
 
-_CHECKPOINT_KEYS = frozenset({"tick", "hash", "score", "ships", "wave", "counts", "groups"})
+_CHECKPOINT_KEYS = frozenset(CHECKPOINT_FIELDS)
 _COUNT_KEYS, _GROUP_KEYS = frozenset(COUNT_NAMES), frozenset(GROUPS)
 
 

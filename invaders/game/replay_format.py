@@ -45,6 +45,9 @@ MAX_SWITCH_FIELDS = 16
 MAX_HEADER_BYTES = 16 * 1024
 MAX_LINE_BYTES = 256 * 1024
 MAX_V1_BYTES = 8 * 1024 * 1024
+# A checkpoint line's fields, and its checkpoint's, in the order the program writes them.
+LINE_FIELDS = ("inputs", "checkpoint")
+CHECKPOINT_FIELDS = ("tick", "hash", "score", "ships", "wave", "counts", "groups")
 HEADER_KEYS = frozenset({"format", "version", "program", "seed", "config", "players"})
 V1_KEYS = HEADER_KEYS - {"players"} | {"ticks", "inputs", "checkpoints"}
 Switch = tuple[int, dict[str, Any]]  # a lab choice, and the tick before whose step it began

@@ -36,6 +36,7 @@ from invaders.game.replay_checks import (
     players_of,
 )
 from invaders.game.replay_format import (
+    LINE_FIELDS,
     MAX_FILE_BYTES,
     MAX_HEADER_BYTES,
     MAX_LINE_BYTES,
@@ -171,7 +172,7 @@ def _switches_taken(listed: list[tuple[int, Any]], bounds: list[int],
     return True
 
 
-_LINE_KEYS = {"inputs", "checkpoint"}
+_LINE_KEYS = frozenset(LINE_FIELDS)
 
 
 def _any_line(line: str, where: str, total: int, runs: Runs, checkpoints: Checkpoints,
