@@ -10,6 +10,8 @@ multiply blend gives (a test holds the two equal pixel for pixel).
 
 from __future__ import annotations
 
+import struct
+
 import numpy as np
 import pygame
 
@@ -66,11 +68,13 @@ STATE_HIGH = 1e6  # no field is negative; the score is the largest (the counter 
 
 
 NONE3 = (0.0, 0.0, 0.0)
+_PACKED = struct.Struct(f"={STATE_SIZE}f")  # the vector, as float32 in native order
 
 
 def observe_state(world: World, out: np.ndarray) -> np.ndarray:
     """The game's objects as numbers, written into `out` (float32, STATE_SIZE): one list
-    built in field order, then one copy into the array."""
+    built in field order, then packed into the array's memory in one call (numpy's own
+    conversion of a list takes about twice as long)."""
     cannon, shot, flying = world.cannon, world.shot, world.saucer.saucer
     values = [cannon.x, 1.0 if cannon.state is ACTIVE else 0.0]
     values += (1.0, shot.x, shot.y) if shot is not None else NONE3
@@ -83,7 +87,7 @@ def observe_state(world: World, out: np.ndarray) -> np.ndarray:
     values += (1.0, flying.x) if flying is not None else (0.0, 0.0)
     values += [bunker.mask.count() for bunker in world.bunkers]
     values += (world.score, max(world.ships, 0), world.wave)
-    out[:] = values
+    _PACKED.pack_into(out, 0, *values)
     return out
 
 
