@@ -284,21 +284,21 @@ def test_async_vector_environments_and_gymnasiums_frame_stacking_work_on_it():
 
 
 def _area_average(picture: np.ndarray, height: int, width: int) -> np.ndarray:
-    """The definition, pixel by pixel: each output pixel the mean of the input area it
-    covers, pixels cut by its edges weighted by the part inside."""
+    """The definition, pixel by pixel, in whole numbers: each output pixel the mean of the
+    input area it covers, pixels cut by its edges weighted by the part inside, rounded half
+    up. Lengths are counted in 1/height (1/width) of a pixel, so every overlap is whole."""
     h, w = picture.shape
-    out = np.zeros((height, width))
+    out = np.zeros((height, width), np.uint8)
     for i in range(height):
         for j in range(width):
-            y0, y1 = i * h / height, (i + 1) * h / height
-            x0, x1 = j * w / width, (j + 1) * w / width
-            total = 0.0
-            for y in range(int(y0), min(h, int(np.ceil(y1)))):
-                for x in range(int(x0), min(w, int(np.ceil(x1)))):
-                    part = (min(y1, y + 1) - max(y0, y)) * (min(x1, x + 1) - max(x0, x))
-                    total += part * picture[y, x]
-            out[i, j] = total / ((y1 - y0) * (x1 - x0))
-    return np.floor(out + 0.5).astype(np.uint8)
+            total = 0
+            for y in range(i * h // height, -(-(i + 1) * h // height)):
+                dy = min((i + 1) * h, (y + 1) * height) - max(i * h, y * height)
+                for x in range(j * w // width, -(-(j + 1) * w // width)):
+                    dx = min((j + 1) * w, (x + 1) * width) - max(j * w, x * width)
+                    total += dy * dx * int(picture[y, x])
+            out[i, j] = (2 * total + h * w) // (2 * h * w)
+    return out
 
 
 def test_grey_pictures_shrink_by_area_and_stack_in_order():
@@ -312,9 +312,7 @@ def test_grey_pictures_shrink_by_area_and_stack_in_order():
     for action in (1, 2, 2, 3):
         stacked = env.step(action)[0]
         picture = full.step(action)[0]
-        small = _area_average(picture, 84, 84)
-        assert np.abs(stacked[-1].astype(int) - small).max() <= 1  # float32 sums
-        assert (stacked[-1] != small).mean() < 0.01
+        assert np.array_equal(stacked[-1], _area_average(picture, 84, 84))
         seen.append(stacked[-1])
     assert all(np.array_equal(a, b) for a, b in zip(stacked, seen[-4:], strict=True))
     assert stacked[-1].max() > 0 and not np.array_equal(stacked[-1], stacked[0])
@@ -364,18 +362,39 @@ def test_the_reward_is_the_points_scored_across_the_counters_wrap_at_10000():
     assert world.score == 20 and reward == 30.0
 
 
-@pytest.mark.parametrize("size", [(84, 84), (224, 224), (1, 1), (7, 200), (210, 13)])
-def test_each_block_of_the_shrink_stays_on_one_blas_thread_and_the_blocks_cover_it(size):
-    """The invariant the blocked shrink keeps: no block's product passes the work under
-    which OpenBLAS stays on the calling thread, and the blocks, put back together, are the
-    whole weights (each output once, none of its weights left out)."""
+SIZES = [(84, 84), (224, 224), (1, 1), (7, 200), (210, 13), (83, 97), (160, 160)]
+
+
+@pytest.mark.parametrize("size", SIZES)
+def test_the_shrink_is_the_exact_area_average_of_any_picture(size):
+    """Pixel for pixel against the definition: random grey levels, and white everywhere
+    (the largest sums there are: the exactness's bound)."""
+    from invaders.env.observations import Shrink
+
+    rng = np.random.default_rng(sum(size))
+    shrink = Shrink(size)
+    for picture in (rng.integers(0, 256, (256, 224), dtype=np.uint8),
+                    np.full((256, 224), 255, np.uint8)):
+        assert np.array_equal(shrink(picture), _area_average(picture, *size))
+
+
+@pytest.mark.parametrize("size", SIZES)
+def test_each_product_of_the_shrink_stays_on_one_blas_thread_and_the_blocks_cover_it(size):
+    """The invariant the blocked shrink keeps: no product passes the work under which
+    OpenBLAS stays on the calling thread, and each axis's blocks, put back together, are a
+    period's whole weights (each output once, none of its weights left out), the periods
+    covering the picture."""
     from invaders.env.observations import BLOCK_WORK, Shrink, area_weights
 
     shrink = Shrink(size)
-    for blocks, weights, across in ((shrink.rows, area_weights(256, size[0]), 224),
-                                    (shrink.cols, area_weights(224, size[1]), size[0])):
+    for axis, size_in, size_out, across in (
+            (shrink.rows, 256, size[0], 224),
+            (shrink.cols, 224, size[1], size[0] * shrink.cols.periods)):
+        assert axis.periods * axis.period_in == size_in
+        assert axis.periods * axis.period_out == size_out
+        weights = area_weights(axis.period_in, axis.period_out)
         rebuilt = np.zeros_like(weights)
-        for outputs, span, part in blocks:
+        for outputs, span, part in axis.blocks:
             assert part.shape[0] * part.shape[1] * across <= BLOCK_WORK
             rebuilt[outputs, span] += part
         assert np.array_equal(rebuilt, weights)  # (a block twice would count twice)

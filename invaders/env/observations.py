@@ -11,6 +11,8 @@ multiply blend gives (a test holds the two equal pixel for pixel).
 from __future__ import annotations
 
 import struct
+from math import gcd
+from typing import NamedTuple
 
 import numpy as np
 import pygame
@@ -92,68 +94,97 @@ def observe_state(world: World, out: np.ndarray) -> np.ndarray:
 
 
 def area_weights(size_in: int, size_out: int) -> np.ndarray:
-    """(size_out, size_in): each output pixel the average of the input it covers, pixels cut
-    by its edges counted by the part inside (the area interpolation Atari agents use)."""
-    scale = size_in / size_out
-    weights = np.zeros((size_out, size_in), np.float32)
-    for i in range(size_out):
-        low, high = i * scale, (i + 1) * scale
-        for j in range(int(low), min(size_in, int(np.ceil(high)))):
-            weights[i, j] = (min(high, j + 1) - max(low, j)) / scale
-    return weights
+    """(size_out, size_in) whole numbers: output i covers inputs i * size_in / size_out to
+    (i + 1) * size_in / size_out, and input j's weight is the length it has inside that
+    span, counted in 1/size_out of a pixel (so every output's weights add up to size_in).
+    Whole numbers, so sums of them times pixels are exact in float32 (see Shrink)."""
+    outputs = np.arange(size_out)[:, None] * size_in
+    inputs = np.arange(size_in)[None, :] * size_out
+    overlap = (np.minimum(outputs + size_in, inputs + size_out)
+               - np.maximum(outputs, inputs))
+    return np.maximum(overlap, 0).astype(np.float32)
 
 
-# Each block of the shrink's products does at most this many multiply-adds (m * n * k):
-# under it OpenBLAS, numpy's BLAS, runs a product on the calling thread (interface/gemm.c:
-# threads = m * n * k / (65536 * 4)), so the games in a vector's worker processes start no
-# BLAS threads to fight over the cores (the whole product at once did: about 6 times slower).
+# Each product the shrink makes does at most this many multiply-adds (m * n * k): under it
+# OpenBLAS, numpy's BLAS, runs a product on the calling thread (interface/gemm.c: threads =
+# m * n * k / (65536 * 4)), so the games in a vector's worker processes start no BLAS
+# threads to fight over the cores (a whole product at once did: about 6 times slower).
 BLOCK_WORK = 2**18
 BLOCK_ROWS = 12  # outputs a block (fewer if its work would pass BLOCK_WORK)
 
 
-def blocks(weights: np.ndarray, across: int) -> list[tuple[slice, slice, np.ndarray]]:
-    """The rows of `weights` (out, in) in blocks: each block's outputs, the span of input
-    its weights cover (they are zero elsewhere) and its weights there, each block's product
-    with `across` columns within BLOCK_WORK."""
-    found, start = [], 0
-    while start < weights.shape[0]:
-        for rows in range(BLOCK_ROWS, 0, -1):
-            stop = min(weights.shape[0], start + rows)
-            used = np.flatnonzero(weights[start:stop].any(axis=0))
-            span = slice(int(used[0]), int(used[-1]) + 1)
-            if rows * (span.stop - span.start) * across <= BLOCK_WORK:
-                break
-        found.append((slice(start, stop), span,
-                      np.ascontiguousarray(weights[start:stop, span])))
-        start = stop
-    return found
+class Axis(NamedTuple):
+    """The shrink of one axis, from `size_in` to `size_out` pixels. The weights repeat
+    every `period_in` inputs (every `period_out` outputs: the sizes over their greatest
+    common divisor), so one period's weights serve all `periods`; they are cut into blocks
+    of outputs, each with the span of inputs its weights cover (a narrow band)."""
+
+    periods: int
+    period_in: int
+    period_out: int
+    blocks: tuple[tuple[slice, slice, np.ndarray], ...]  # outputs, inputs, their weights
+
+    @classmethod
+    def of(cls, size_in: int, size_out: int, across: int) -> Axis:
+        """`across`: the pixels each weight multiplies in one product (for BLOCK_WORK)."""
+        common = gcd(size_in, size_out)
+        weights = area_weights(size_in // common, size_out // common)
+        found, start = [], 0
+        while start < weights.shape[0]:
+            for rows in range(BLOCK_ROWS, 0, -1):
+                stop = min(weights.shape[0], start + rows)
+                used = np.flatnonzero(weights[start:stop].any(axis=0))
+                span = slice(int(used[0]), int(used[-1]) + 1)
+                if rows * (span.stop - span.start) * across <= BLOCK_WORK:
+                    break
+            found.append((slice(start, stop), span,
+                          np.ascontiguousarray(weights[start:stop, span])))
+            start = stop
+        return cls(common, *reversed(weights.shape), tuple(found))
 
 
 class Shrink:
-    """A grey picture made smaller by area averaging, in arrays kept between steps: the
-    rows, then the columns, a block of outputs at a time against only the inputs they
-    cover (the weights are a narrow band: the whole products did 28 times the work), and a
-    rounding; nothing allocated."""
+    """A grey picture made smaller by area averaging, exactly, in arrays kept between
+    steps: the rows, then the columns, each a block of a period's outputs at a time against
+    only the inputs they cover, for every period in one product; then a division and a
+    rounding half up; nothing allocated.
+
+    Exact, whatever the order the products add in: the weights are whole numbers, so every
+    sum is a whole number, at most 255 times the weights' total D (the two periods of
+    inputs multiplied, at most 256 * 224 = 57344: every sum under 2**24, so exact in
+    float32). D is even (no output is 256 rows tall, so the rows' period of inputs is 256
+    over a power of two below it), so `sum + D / 2` is whole; a float32 division rounds the
+    quotient (under 256) by at most 2**-17, less than any fraction it can have (a multiple
+    of 1 / D), so dropping the fraction gives the rounding half up."""
 
     def __init__(self, size: tuple[int, int]) -> None:
         height, width = size
-        self.rows = blocks(area_weights(SCREEN_H, height), across=SCREEN_W)
-        self.cols = blocks(area_weights(SCREEN_W, width), across=height)
+        self.rows = Axis.of(SCREEN_H, height, across=SCREEN_W)
+        self.cols = Axis.of(SCREEN_W, width, across=height * gcd(SCREEN_W, width))
+        self.total = self.rows.period_in * self.cols.period_in
         self._grey = np.zeros((SCREEN_H, SCREEN_W), np.float32)
         self._half = np.zeros((height, SCREEN_W), np.float32)
-        self._half_t = np.zeros((SCREEN_W, height), np.float32)  # (the columns as rows)
-        self._small_t = np.zeros((width, height), np.float32)
+        self._small = np.zeros((height, width), np.float32)
         self.out = np.zeros((height, width), np.uint8)
 
     def __call__(self, grey: np.ndarray) -> np.ndarray:
         np.copyto(self._grey, grey)
-        for outputs, span, weights in self.rows:
-            np.matmul(weights, self._grey[span], out=self._half[outputs])
-        np.copyto(self._half_t, self._half.T)
-        for outputs, span, weights in self.cols:
-            np.matmul(weights, self._half_t[span], out=self._small_t[outputs])
-        np.add(self._small_t, 0.5, out=self._small_t)  # rounded to nearest, not down
-        np.copyto(self.out, self._small_t.T, casting="unsafe")
+        rows, cols = self.rows, self.cols
+        # The rows: each period of inputs (a stack of row bands) times the weights' blocks.
+        grey3 = self._grey.reshape(rows.periods, rows.period_in, SCREEN_W)
+        half3 = self._half.reshape(rows.periods, rows.period_out, SCREEN_W)
+        for outputs, span, weights in rows.blocks:
+            np.matmul(weights, grey3[:, span], out=half3[:, outputs])
+        # The columns: every row's periods of columns times the blocks' weights
+        # (transposed: the columns are on the right).
+        height = self._half.shape[0]
+        half2 = self._half.reshape(height * cols.periods, cols.period_in)
+        small2 = self._small.reshape(height * cols.periods, cols.period_out)
+        for outputs, span, weights in cols.blocks:
+            np.matmul(half2[:, span], weights.T, out=small2[:, outputs])
+        np.add(self._small, self.total // 2, out=self._small)
+        np.divide(self._small, self.total, out=self._small)
+        np.copyto(self.out, self._small, casting="unsafe")  # (drops the fraction)
         return self.out
 
 
