@@ -318,32 +318,81 @@ def test_grey_pictures_shrink_by_area_and_stack_in_order():
     assert stacked[-1].max() > 0 and not np.array_equal(stacked[-1], stacked[0])
 
 
-@pytest.mark.parametrize("obs_type", ["state", "grayscale"])
-def test_the_native_vector_environment_steps_as_gymnasiums_sync_one(obs_type):
+def _in_lockstep(one, other, seed: int, infos: tuple[str, ...] | None
+                 ) -> tuple[int, np.ndarray]:
+    """Two vectors of 3 games reset with one seed, then 210 steps of the same random
+    actions, each step's observations, rewards, ends and infos (those named, or all)
+    equal: how many episodes were cut short, and the last observations."""
+    first = [venv.reset(seed=seed) for venv in (one, other)]
+    assert np.array_equal(first[0][0], first[1][0])
+    rng = np.random.default_rng(seed)
+    ends = 0
+    for _ in range(210):
+        actions = rng.integers(0, 6, 3)
+        (o1, r1, t1, u1, i1), (o2, r2, t2, u2, i2) = (venv.step(actions)
+                                                      for venv in (one, other))
+        assert np.array_equal(o1, o2) and np.array_equal(r1, r2)
+        assert np.array_equal(t1, t2) and np.array_equal(u1, u2)
+        assert infos is not None or i1.keys() == i2.keys()
+        assert all(np.array_equal(i1[key], i2[key]) for key in infos or i1)
+        ends += int(u1.sum())
+    return ends, o2
+
+
+@pytest.mark.parametrize("options", [{"obs_type": "state"}, {"obs_type": "grayscale"},
+                                     {"obs_type": "grayscale", "resize": (84, 84), "stack": 2}],
+                         ids=["state", "grayscale", "grayscale-84x84x2"])
+def test_the_native_vector_environment_steps_as_gymnasiums_sync_one(options):
     """The same games step for step, across episode ends (NEXT_STEP autoreset: the step
     after an end resets that game)."""
-    options = {"obs_type": obs_type, "max_num_frames_per_episode": 40}
+    options = {**options, "max_num_frames_per_episode": 400}
     native = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
                                 **options)
     sync = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="sync", **options)
     assert type(native).__name__ == "SpaceInvadersVectorEnv"
     assert native.observation_space == sync.observation_space
-    first = [venv.reset(seed=5) for venv in (native, sync)]
-    assert np.array_equal(first[0][0], first[1][0])
-    rng = np.random.default_rng(0)
-    ends = 0
-    for _ in range(25):
-        actions = rng.integers(0, 6, 3)
-        (o1, r1, t1, u1, i1), (o2, r2, t2, u2, i2) = (venv.step(actions)
-                                                      for venv in (native, sync))
-        assert np.array_equal(o1, o2) and np.array_equal(r1, r2)
-        assert np.array_equal(t1, t2) and np.array_equal(u1, u2)
-        assert np.array_equal(i1["lives"], i2["lives"])
-        assert np.array_equal(i1["episode_frame_number"], i2["episode_frame_number"])
-        ends += int(u1.sum())
-    assert ends == 6  # each game cut at 40 frames, twice in 25 steps
+    ends, _ = _in_lockstep(native, sync, 5, ("lives", "episode_frame_number"))
+    assert ends == 6  # each game cut at 400 frames, twice in 210 steps
     native.close()
     sync.close()
+
+
+@pytest.mark.parametrize("options", [{"obs_type": "state"},
+                                     {"obs_type": "grayscale", "resize": (84, 84), "stack": 2}],
+                         ids=["state", "grayscale-84x84x2"])
+def test_the_native_vector_on_worker_processes_steps_as_in_one_process(options):
+    """The same games step for step, across episode ends, whether in this process or
+    shared among workers (the observations, rewards and ends through shared memory)."""
+    options = {**options, "max_num_frames_per_episode": 400}
+    here = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
+                              **options)
+    apart = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
+                               workers=2, **options)
+    ends, last = _in_lockstep(here, apart, 11, None)
+    assert ends == 6 and last.max() > 0  # each game cut at 400 frames, twice in 210 steps
+    here.close()
+    apart.close()
+    with pytest.raises(AttributeError):
+        apart.unwrapped.envs  # noqa: B018  (the games are not in this process)
+
+
+def test_a_workers_failure_is_raised_in_the_caller_and_bad_actions_and_counts_refused():
+    envs = gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
+                              workers=2, obs_type="state")
+    with pytest.raises(RuntimeError, match=r"a games worker failed: .*[Ss]eed"):
+        envs.reset(seed=[1, -1])  # (the second worker's game refuses a negative seed)
+    envs.close()
+    envs = gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
+                              obs_type="state")
+    envs.reset(seed=0)
+    for actions in ([0, 6], [-1, 0], [0.0, 1.0], [True, False], [0, 1, 2], [[0, 1]]):
+        with pytest.raises(ValueError, match="are not in"):
+            envs.step(np.array(actions))
+    envs.close()
+    for bad in ({"workers": 0}, {"workers": 3}, {"workers": 2, "render_mode": "rgb_array"}):
+        with pytest.raises(ValueError, match=r"workers|render_mode"):
+            gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
+                               obs_type="state", **bad)
 
 
 def test_the_reward_is_the_points_scored_across_the_counters_wrap_at_10000():
@@ -398,3 +447,20 @@ def test_each_product_of_the_shrink_stays_on_one_blas_thread_and_the_blocks_cove
             assert part.shape[0] * part.shape[1] * across <= BLOCK_WORK
             rebuilt[outputs, span] += part
         assert np.array_equal(rebuilt, weights)  # (a block twice would count twice)
+
+
+def test_the_speed_tables_batch_row_judges_the_first_against_the_second(capsys):
+    """Contenders timed by stand-ins (seconds for k steps, fixed): the goal judged on the
+    first two, a third reported against the second, without a goal."""
+    from invaders.env.speed import _batch_row
+
+    runs = {"ours": lambda k: k / 3000, "theirs": lambda k: k / 1000,
+            "another": lambda k: k / 500}
+    assert _batch_row("2 games:", runs, 2, 3, goal=2.0) == 0
+    assert _batch_row("2 games:", runs, 2, 3, goal=4.0) == 1
+    first, other, second, _ = capsys.readouterr().out.splitlines()
+    assert "ours   6,000 steps/s (6,000..6,000)   theirs   2,000 steps/s" in first
+    assert first.endswith("3.00x (3.00..3.00)   goal >= 2x: met")
+    assert second.endswith("3.00x (3.00..3.00)   goal >= 4x: NOT met")
+    assert other.endswith(
+        "another   1,000 steps/s (1,000..1,000)   0.50x (0.50..0.50) against theirs")

@@ -1,10 +1,12 @@
-"""N games stepped in one process, their observations written into one array kept between
+"""N games stepped together, their observations written into one array kept between
 steps: `gymnasium.make_vec("invaders/SpaceInvaders-v0", num_envs=N,
-vectorization_mode="vector_entry_point")`. Autoreset as Gymnasium 1.x's default
-(`NEXT_STEP`): the step after an episode ends resets that game (reward 0, its first
-observation), the others step on. Each game is a `SpaceInvadersEnv`, so each gives what it
-would alone; the batch saves the per-game copies, infos and wrappers of a generic vector
-environment.
+vectorization_mode="vector_entry_point")`, in this process, or with `workers=W` on W
+worker processes (each a share of the games, the arrays in shared memory). Autoreset as
+Gymnasium 1.x's default (`NEXT_STEP`): the step after an episode ends resets that game
+(reward 0, its first observation), the others step on. Each game is a `SpaceInvadersEnv`,
+so each gives what it would alone; the batch saves the per-game copies, infos and wrappers
+of a generic vector environment (and, on workers, the pickled infos of Gymnasium's async
+one).
 """
 
 from __future__ import annotations
@@ -15,29 +17,47 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
+from invaders.env.games import NUMBERS, Games, Rows
 from invaders.env.space_invaders import SpaceInvadersEnv
+from invaders.env.workers import Pool
 
 
 class SpaceInvadersVectorEnv(VectorEnv):
-    """`num_envs` games with the same options (those of `SpaceInvadersEnv`)."""
+    """`num_envs` games with the same options (those of `SpaceInvadersEnv`), in this
+    process or on `workers` processes (started with the multiprocessing `context` named,
+    or the platform's default, as Gymnasium's async vector does)."""
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}  # noqa: RUF012 (Gymnasium's)
 
-    def __init__(self, num_envs: int = 8, copy: bool = True, **options: Any) -> None:
+    def __init__(self, num_envs: int = 8, copy: bool = True, workers: int = 1,
+                 context: str | None = None, **options: Any) -> None:
         if not (isinstance(num_envs, int) and num_envs >= 1):
             raise ValueError(f"num_envs {num_envs!r}: a whole number from 1")
-        self.envs = [SpaceInvadersEnv(**options) for _ in range(num_envs)]
+        if not (isinstance(workers, int) and 1 <= workers <= num_envs):
+            raise ValueError(f"workers {workers!r}: a whole number from 1 to num_envs")
+        if workers > 1 and options.get("render_mode") is not None:
+            raise ValueError("render_mode: games on workers are not drawn for the caller")
+        single = SpaceInvadersEnv(**options)  # (checks the options here, in one line)
         self.num_envs, self.copy = num_envs, copy
-        self.single_observation_space = self.envs[0].observation_space
-        self.single_action_space = self.envs[0].action_space
+        self.single_observation_space = single.observation_space
+        self.single_action_space = single.action_space
         self.observation_space = batch_space(self.single_observation_space, num_envs)
         self.action_space = batch_space(self.single_action_space, num_envs)
         self.render_mode = options.get("render_mode")
-        self._obs = np.zeros(self.observation_space.shape, self.observation_space.dtype)
-        self._rewards = np.zeros(num_envs, np.float64)
-        self._terminated = np.zeros(num_envs, np.bool_)
-        self._truncated = np.zeros(num_envs, np.bool_)
-        self._ended = np.zeros(num_envs, np.bool_)
+        shape, dtype = self.single_observation_space.shape, self.single_observation_space.dtype
+        self._games: Games | Pool
+        if workers == 1:
+            self._games = Games(num_envs, Rows.zeros(num_envs, shape, dtype), options)
+        else:
+            self._games = Pool(num_envs, workers, options, shape, dtype, context)
+        self._rows = self._games.rows
+
+    @property
+    def envs(self) -> list[SpaceInvadersEnv]:
+        """The games, when they are in this process."""
+        if not isinstance(self._games, Games):
+            raise AttributeError("the games are on worker processes")
+        return self._games.envs
 
     def reset(self, *, seed: int | list[int | None] | None = None,
               options: dict[str, Any] | None = None) -> tuple[np.ndarray, dict[str, Any]]:
@@ -47,31 +67,19 @@ class SpaceInvadersVectorEnv(VectorEnv):
                  else seed if seed is not None else [None] * self.num_envs)
         if len(seeds) != self.num_envs:
             raise ValueError(f"{len(seeds)} seeds for {self.num_envs} games")
-        for i, (env, one) in enumerate(zip(self.envs, seeds, strict=True)):
-            env.reset(seed=one)
-            self._obs[i] = env.frame(first=True)
-        self._ended[:] = False
-        return self._out(self._obs), self._infos()
+        self._games.reset(list(seeds))
+        return self._out(self._rows.obs), self._infos()
 
     def step(self, actions: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                                           dict[str, Any]]:
         actions = np.asarray(actions)
-        if actions.shape != (self.num_envs,) or not self.action_space.contains(
-                actions.astype(self.action_space.dtype)):
+        if (actions.shape != (self.num_envs,) or actions.dtype.kind not in "iu"
+                or actions.min() < 0 or actions.max() >= self.single_action_space.n):
             raise ValueError(f"actions {actions!r} are not in {self.action_space}")
-        for i, (env, action) in enumerate(zip(self.envs, actions.tolist(), strict=True)):
-            if self._ended[i]:  # NEXT_STEP: this step resets it
-                env.begin(None)
-                self._rewards[i], self._terminated[i], self._truncated[i] = 0.0, False, False
-                self._obs[i] = env.frame(first=True)
-                continue
-            reward, terminated, truncated, _ = env.advance(action)
-            self._rewards[i], self._terminated[i], self._truncated[i] = (
-                reward, terminated, truncated)
-            self._obs[i] = env.frame()
-        np.logical_or(self._terminated, self._truncated, out=self._ended)
-        return (self._out(self._obs), self._out(self._rewards), self._out(self._terminated),
-                self._out(self._truncated), self._infos())
+        self._games.step(actions.tolist())
+        rows = self._rows
+        return (self._out(rows.obs), self._out(rows.rewards), self._out(rows.terminated),
+                self._out(rows.truncated), self._infos())
 
     def render(self) -> tuple[np.ndarray, ...] | None:
         if self.render_mode != "rgb_array":
@@ -79,8 +87,7 @@ class SpaceInvadersVectorEnv(VectorEnv):
         return tuple(env.render() for env in self.envs)
 
     def close_extras(self, **kwargs: Any) -> None:
-        for env in self.envs:
-            env.close()
+        self._games.close()
 
     def _out(self, array: np.ndarray) -> np.ndarray:
         return array.copy() if self.copy else array
@@ -89,9 +96,7 @@ class SpaceInvadersVectorEnv(VectorEnv):
         """ALE's per-game numbers as arrays, each with Gymnasium's mask of who has it."""
         present = np.ones(self.num_envs, np.bool_)
         infos: dict[str, Any] = {}
-        for key, read in (("lives", lambda e: max(e.world.ships, 0)),
-                          ("episode_frame_number", lambda e: e.episode_frame_number),
-                          ("frame_number", lambda e: e.frame_number)):
-            infos[key] = np.array([read(env) for env in self.envs], np.int64)
+        for column, key in enumerate(NUMBERS):
+            infos[key] = self._rows.numbers[:, column].copy()
             infos[f"_{key}"] = present
         return infos

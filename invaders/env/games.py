@@ -1,0 +1,76 @@
+"""Games stepped together, each writing its step into a row of arrays it is given: what
+the native vector environment does in its own process, and each of its workers does with
+arrays in shared memory.
+
+Autoreset as Gymnasium 1.x's default (`NEXT_STEP`): the step after a game's episode ends
+resets that game (reward 0, its first observation), the others step on.
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from invaders.env.space_invaders import SpaceInvadersEnv
+
+NUMBERS = ("lives", "episode_frame_number", "frame_number")  # ALE's info, a column each
+
+
+class Rows(NamedTuple):
+    """Where the games write: a row (or an element) per game."""
+
+    obs: np.ndarray
+    rewards: np.ndarray  # float64
+    terminated: np.ndarray  # bool
+    truncated: np.ndarray  # bool
+    ended: np.ndarray  # bool: terminated or truncated, so the next step resets
+    numbers: np.ndarray  # int64, (games, 3): NUMBERS
+
+    @classmethod
+    def zeros(cls, games: int, obs_shape: tuple[int, ...], obs_dtype: Any) -> Rows:
+        return cls(np.zeros((games, *obs_shape), obs_dtype), np.zeros(games, np.float64),
+                   np.zeros(games, np.bool_), np.zeros(games, np.bool_),
+                   np.zeros(games, np.bool_), np.zeros((games, len(NUMBERS)), np.int64))
+
+
+class Games:
+    """`SpaceInvadersEnv`s with the same options, and the rows they write."""
+
+    def __init__(self, count: int, rows: Rows, options: dict[str, Any]) -> None:
+        self.envs = [SpaceInvadersEnv(**options) for _ in range(count)]
+        self.rows = rows
+
+    def reset(self, seeds: list[int | None]) -> None:
+        rows = self.rows
+        for i, (env, seed) in enumerate(zip(self.envs, seeds, strict=True)):
+            env.reset(seed=seed)
+            rows.obs[i] = env.frame(first=True)
+            self._note(i, env)
+        rows.rewards[:] = 0.0
+        rows.terminated[:] = rows.truncated[:] = rows.ended[:] = False
+
+    def step(self, actions: list[int]) -> None:
+        """One step of every game (actions already checked)."""
+        rows = self.rows
+        for i, (env, action) in enumerate(zip(self.envs, actions, strict=True)):
+            if rows.ended[i]:  # NEXT_STEP: this step resets it
+                env.begin(None)
+                rows.rewards[i], rows.terminated[i], rows.truncated[i] = 0.0, False, False
+                rows.obs[i] = env.frame(first=True)
+            else:
+                reward, terminated, truncated, _ = env.advance(action)
+                rows.rewards[i], rows.terminated[i], rows.truncated[i] = (
+                    reward, terminated, truncated)
+                rows.obs[i] = env.frame()
+            self._note(i, env)
+        np.logical_or(rows.terminated, rows.truncated, out=rows.ended)
+
+    def close(self) -> None:
+        for env in self.envs:
+            env.close()
+
+    def _note(self, i: int, env: SpaceInvadersEnv) -> None:
+        assert env.world is not None
+        self.rows.numbers[i] = (max(env.world.ships, 0), env.episode_frame_number,
+                                env.frame_number)
