@@ -215,6 +215,25 @@ def test_every_episode_is_a_replay_that_checks(tmp_path, capsys):
     assert capsys.readouterr().out.count("ok ") == 2
 
 
+def test_games_on_workers_record_their_episodes_when_closed(tmp_path, capsys):
+    """Each game records where it runs; closing the vector closes every game (its last
+    episode written) and ends the workers, several times over (an ended worker's pipe
+    says nothing more)."""
+    folder = tmp_path / "episodes"
+    for _ in range(4):
+        envs = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
+                                  workers=2, obs_type="state", record=str(folder),
+                                  max_num_frames_per_episode=200)
+        envs.reset(seed=4)
+        for _ in range(60):  # 50 steps an episode, then 9 of the next
+            envs.step(np.array([1, 2, 3]))
+        envs.close()
+    files = sorted(folder.glob("*.json"))
+    assert sorted(load(f).ticks for f in files)[::3] == [36, 200]  # (the same 6 each time)
+    assert len(files) == 6 and main(["replay", str(folder)]) == 0
+    assert capsys.readouterr().out.count("ok ") == 6
+
+
 def test_bad_options_are_refused_in_one_line():
     for options in ({"obs_type": "ram"}, {"frameskip": 0}, {"frameskip": (4, 2)},
                     {"repeat_action_probability": 2.0}, {"render_mode": "window"},

@@ -82,7 +82,10 @@ class _Worker:
                 if not self.process.is_alive():
                     raise RuntimeError(
                         f"a games worker ended (exit code {self.process.exitcode})")
-        return self.conn.recv() if self.conn.poll() else None
+        try:
+            return self.conn.recv() if self.conn.poll() else None
+        except EOFError:  # (nothing said: a worker told to close may have ended already)
+            return None
 
 
 class Pool:
