@@ -234,6 +234,21 @@ def test_games_on_workers_record_their_episodes_when_closed(tmp_path, capsys):
     assert capsys.readouterr().out.count("ok ") == 6
 
 
+def test_a_worker_killed_is_said_at_the_next_step_and_closing_still_closes(tmp_path):
+    from invaders.env.workers import WorkerEnded
+
+    envs = gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
+                              workers=2, obs_type="state", record=str(tmp_path))
+    envs.reset(seed=4)
+    envs.step(np.array([1, 1]))
+    envs.unwrapped._games._workers[0].process.kill()
+    with pytest.raises(WorkerEnded, match=r"a games worker ended \(exit code -9\)"):
+        for _ in range(3):  # (the kill may land after the first of them)
+            envs.step(np.array([1, 1]))
+    envs.close()  # the caller's own game is closed: its episode written
+    assert len(list(tmp_path.glob("*.json"))) == 1
+
+
 def test_bad_options_are_refused_in_one_line():
     for options in ({"obs_type": "ram"}, {"frameskip": 0}, {"frameskip": (4, 2)},
                     {"repeat_action_probability": 2.0}, {"render_mode": "window"},

@@ -56,6 +56,10 @@ def _spin_then_take(semaphore: Any) -> bool:
     return True
 
 
+class WorkerEnded(RuntimeError):
+    """A worker process is gone (killed, or out of memory): its games with it."""
+
+
 class _Worker:
     """The caller's end of one worker process: its pipe (commands other than a step, and
     what went wrong), and its two semaphores (go, and done)."""
@@ -72,16 +76,22 @@ class _Worker:
 
     def send(self, command: str, argument: Any) -> None:
         if command != "step":
-            self.conn.send((command, argument))
+            try:
+                self.conn.send((command, argument))
+            except OSError:  # (its end of the pipe closed: the process is gone)
+                raise self.ended() from None
         self.go.release()
+
+    def ended(self) -> WorkerEnded:
+        self.process.join(timeout=ALIVE_CHECK)
+        return WorkerEnded(f"a games worker ended (exit code {self.process.exitcode})")
 
     def answer(self) -> str | None:
         """After a command: None, or what went wrong in the worker."""
         if not _spin_then_take(self.done):
             while not self.done.acquire(timeout=ALIVE_CHECK):
                 if not self.process.is_alive():
-                    raise RuntimeError(
-                        f"a games worker ended (exit code {self.process.exitcode})")
+                    raise self.ended()
         try:
             return self.conn.recv() if self.conn.poll() else None
         except EOFError:  # (nothing said: a worker told to close may have ended already)
@@ -119,11 +129,15 @@ class Pool:
                   lambda: self._here.step(actions[:self._mine]))
 
     def close(self) -> None:
-        """Every game closed (an episode being recorded is written); the workers end."""
+        """Every game closed (an episode being recorded is written); the workers end. A
+        worker that has ended already is let be (its failure was raised when it showed)."""
         if not self._workers:
             return
         try:
+            self._workers = [worker for worker in self._workers if worker.process.is_alive()]
             self._ask("close", [None] * len(self._workers), self._here.close)
+        except WorkerEnded:
+            pass  # (one ended meanwhile; a game's failure to close is raised)
         finally:
             for worker in self._workers:
                 worker.conn.close()
