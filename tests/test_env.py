@@ -392,8 +392,9 @@ def test_the_native_vector_environment_steps_as_gymnasiums_sync_one(options):
 
 
 @pytest.mark.parametrize("options", [{"obs_type": "state"},
+                                     {"obs_type": "state", "context": "spawn"},
                                      {"obs_type": "grayscale", "resize": (84, 84), "stack": 2}],
-                         ids=["state", "grayscale-84x84x2"])
+                         ids=["state", "state-spawned", "grayscale-84x84x2"])
 def test_the_native_vector_on_worker_processes_steps_as_in_one_process(options):
     """The same games step for step, across episode ends, whether in this process or
     shared among workers (the observations, rewards and ends through shared memory)."""

@@ -117,7 +117,11 @@ class Pool:
         self._workers = [_Worker(ctx, raws, specs, start, stop, options)
                          for start, stop in others]
         self._here = Games(self._mine, _share(self.rows, 0, self._mine), options)
-        self._ask("start", [None] * len(others))
+        try:
+            self._ask("start", [None] * len(others))
+        except RuntimeError:
+            self.close()  # (no process left behind)
+            raise
 
     def reset(self, seeds: list[int | None]) -> None:
         self._ask("reset", [seeds[start:stop] for start, stop in self._shares],
