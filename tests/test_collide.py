@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import io
 import random
+import sys
 import unittest
 
 import pygame
@@ -20,6 +21,9 @@ OURS = ("groupcollide", "spritecollide", "spritecollideany", "collide_rect",
 
 
 def test_pygames_own_sprite_collision_tests_pass_with_ours_in_its_place(monkeypatch):
+    # (pygame's test package puts its own folders first on sys.path, where its typing.py
+    # would hide the standard library's from any process started after: put back after)
+    monkeypatch.setattr(sys, "path", list(sys.path))
     from pygame.tests import sprite_test
 
     for name in OURS:
