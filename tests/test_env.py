@@ -249,6 +249,36 @@ def test_a_worker_killed_is_said_at_the_next_step_and_closing_still_closes(tmp_p
     assert len(list(tmp_path.glob("*.json"))) == 1
 
 
+def test_an_interrupted_step_on_workers_is_never_taken_for_the_next(monkeypatch):
+    """Ctrl-C in the caller's own share: the workers' answers are still taken, and the
+    vector steps on. Ctrl-C while waiting on a worker: the next step is refused (the
+    worker's answer would be taken for it), and closing still ends the workers."""
+    from invaders.env import workers
+
+    envs = gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
+                              workers=2, obs_type="state")
+    envs.reset(seed=4)
+    pool = envs.unwrapped._games
+
+    def interrupted(*_):
+        raise KeyboardInterrupt
+
+    with monkeypatch.context() as patch:
+        patch.setattr(pool._here, "step", interrupted)
+        with pytest.raises(KeyboardInterrupt):
+            envs.step(np.array([1, 1]))
+    assert envs.step(np.array([1, 1]))[0].shape == (2, 188)
+    with monkeypatch.context() as patch:
+        patch.setattr(workers._Worker, "answer", interrupted)
+        with pytest.raises(KeyboardInterrupt):
+            envs.step(np.array([1, 1]))
+    with pytest.raises(RuntimeError, match="interrupted before every worker answered"):
+        envs.step(np.array([1, 1]))
+    process = pool._workers[0].process
+    envs.close()
+    assert not process.is_alive()
+
+
 def test_bad_options_are_refused_in_one_line():
     for options in ({"obs_type": "ram"}, {"frameskip": 0}, {"frameskip": (4, 2)},
                     {"repeat_action_probability": 2.0}, {"render_mode": "window"},

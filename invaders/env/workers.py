@@ -117,6 +117,7 @@ class Pool:
         self._workers = [_Worker(ctx, raws, specs, start, stop, options)
                          for start, stop in others]
         self._here = Games(self._mine, _share(self.rows, 0, self._mine), options)
+        self._waiting = False  # a command sent whose answers were not all taken
         try:
             self._ask("start", [None] * len(others))
         except RuntimeError:
@@ -128,6 +129,7 @@ class Pool:
                   lambda: self._here.reset(seeds[:self._mine]))
 
     def step(self, actions: list[int]) -> None:
+        self._check_answered()
         self._actions[:] = actions
         self._ask("step", [None] * len(self._workers),
                   lambda: self._here.step(actions[:self._mine]))
@@ -150,9 +152,20 @@ class Pool:
                     worker.process.terminate()
             self._workers = []
 
+    def _check_answered(self) -> None:
+        """Refuse to go on after a command whose answers were not all taken (Ctrl-C while
+        waiting, say): a worker may still be writing, and its answer would be taken for
+        the next command's."""
+        if self._waiting:
+            raise RuntimeError("a step of the games was interrupted before every worker "
+                               "answered: close this vector and make another")
+
     def _ask(self, command: str, arguments: list[Any], own: Any = None) -> None:
         """Each worker the command (with its argument), the caller's own share done
         meanwhile, then each worker's answer; the first failure raised."""
+        if command != "close":
+            self._check_answered()
+        self._waiting = True
         for worker, argument in zip(self._workers, arguments, strict=True):
             worker.send(command, argument)
         try:
@@ -161,6 +174,7 @@ class Pool:
         finally:  # (every worker's answer taken, so none is left for the next command)
             failures = [answer for answer in map(_Worker.answer, self._workers)
                         if answer is not None]
+            self._waiting = False
         if failures:
             raise RuntimeError(f"a games worker failed: {failures[0]}")
 
