@@ -125,6 +125,7 @@ class Pool:
             raise
 
     def reset(self, seeds: list[int | None]) -> None:
+        self._check_answered()
         self._ask("reset", [seeds[start:stop] for start, stop in self._shares],
                   lambda: self._here.reset(seeds[:self._mine]))
 
@@ -162,9 +163,8 @@ class Pool:
 
     def _ask(self, command: str, arguments: list[Any], own: Any = None) -> None:
         """Each worker the command (with its argument), the caller's own share done
-        meanwhile, then each worker's answer; the first failure raised."""
-        if command != "close":
-            self._check_answered()
+        meanwhile, then each worker's answer; the first failure raised. (Steps and resets
+        check first that the last command was answered.)"""
         self._waiting = True
         for worker, argument in zip(self._workers, arguments, strict=True):
             worker.send(command, argument)
