@@ -1,9 +1,10 @@
 """N games stepped together, their observations written into one array kept between
 steps: `gymnasium.make_vec("invaders/SpaceInvaders-v0", num_envs=N,
 vectorization_mode="vector_entry_point")`, in this process, or with `workers=W` on W
-worker processes (each a share of the games, the arrays in shared memory). Autoreset as
-Gymnasium 1.x's default (`NEXT_STEP`): the step after an episode ends resets that game
-(reward 0, its first observation), the others step on. Each game is a `SpaceInvadersEnv`,
+cores (a share of the games stepped here, each other share on a worker process, the
+arrays in shared memory: workers.py). Autoreset as Gymnasium 1.x's default (`NEXT_STEP`):
+the step after an episode ends resets that game (reward 0, its first observation), the
+others step on. Each game is a `SpaceInvadersEnv`,
 so each gives what it would alone; the batch saves the per-game copies, infos and wrappers
 of a generic vector environment (and, on workers, the pickled infos of Gymnasium's async
 one).
@@ -24,8 +25,9 @@ from invaders.env.workers import Pool
 
 class SpaceInvadersVectorEnv(VectorEnv):
     """`num_envs` games with the same options (those of `SpaceInvadersEnv`), in this
-    process or on `workers` processes (started with the multiprocessing `context` named,
-    or the platform's default, as Gymnasium's async vector does)."""
+    process or in `workers` shares, this process's and `workers - 1` worker processes'
+    (started with the multiprocessing `context` named, or the platform's default, as
+    Gymnasium's async vector does)."""
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}  # noqa: RUF012 (Gymnasium's)
 
