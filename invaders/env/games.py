@@ -27,11 +27,18 @@ class Rows(NamedTuple):
     ended: np.ndarray  # bool: terminated or truncated, so the next step resets
     numbers: np.ndarray  # int64, (games, 3): NUMBERS
 
+    @staticmethod
+    def specs(games: int, obs_shape: tuple[int, ...], obs_dtype: Any
+              ) -> dict[str, tuple[tuple[int, ...], Any]]:
+        """Each field's shape and dtype, for `games` games."""
+        return {"obs": ((games, *obs_shape), obs_dtype), "rewards": ((games,), np.float64),
+                "terminated": ((games,), np.bool_), "truncated": ((games,), np.bool_),
+                "ended": ((games,), np.bool_), "numbers": ((games, len(NUMBERS)), np.int64)}
+
     @classmethod
     def zeros(cls, games: int, obs_shape: tuple[int, ...], obs_dtype: Any) -> Rows:
-        return cls(np.zeros((games, *obs_shape), obs_dtype), np.zeros(games, np.float64),
-                   np.zeros(games, np.bool_), np.zeros(games, np.bool_),
-                   np.zeros(games, np.bool_), np.zeros((games, len(NUMBERS)), np.int64))
+        return cls(**{name: np.zeros(shape, dtype) for name, (shape, dtype)
+                      in cls.specs(games, obs_shape, obs_dtype).items()})
 
 
 class Games:

@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from invaders.env.games import NUMBERS, Games, Rows
+from invaders.env.games import Games, Rows
 
 Specs = dict[str, tuple[tuple[int, ...], Any]]  # each shared array's shape and dtype
 SPIN_SECONDS = 0.001  # how long a waiting process spins before it sleeps
@@ -29,10 +29,8 @@ ALIVE_CHECK = 1.0  # seconds between checks that a worker waited on is still run
 
 
 def _specs(games: int, obs_shape: tuple[int, ...], obs_dtype: Any) -> Specs:
-    return {"obs": ((games, *obs_shape), obs_dtype), "rewards": ((games,), np.float64),
-            "terminated": ((games,), np.bool_), "truncated": ((games,), np.bool_),
-            "ended": ((games,), np.bool_), "numbers": ((games, len(NUMBERS)), np.int64),
-            "actions": ((games,), np.int64)}
+    """The rows' arrays, and the actions'."""
+    return {**Rows.specs(games, obs_shape, obs_dtype), "actions": ((games,), np.int64)}
 
 
 def _views(raws: dict[str, Any], specs: Specs) -> tuple[Rows, np.ndarray]:
