@@ -72,11 +72,10 @@ def env_table(rounds: int, section: bool = False) -> int:
         rates = _rates(runs, rounds)
         line = f"   ours {ours_type:<9} {_figure(rates['ours'])}"
         if with_ale:
-            ratios = [a / b for a, b in zip(rates["ours"], rates["ALE"], strict=True)]
-            met = statistics.median(ratios) >= target
+            ratio, said = _ratios(rates["ours"], rates["ALE"], digits=1)
+            met = ratio >= target
             missed += not met
-            line += (f"   ALE {theirs_type:<9} {_figure(rates['ALE'])}   "
-                     f"{statistics.median(ratios):.1f}x ({min(ratios):.1f}..{max(ratios):.1f})"
+            line += (f"   ALE {theirs_type:<9} {_figure(rates['ALE'])}   {said}"
                      f"   goal >= {target:.0f}x: {'met' if met else 'NOT met'}")
         print(line)
     return 1 if missed + _vector_rows(rounds) else 0
@@ -123,24 +122,21 @@ def _batch_row(label: str, runs: dict[str, Callable[[int], float]], n: int, roun
     the same turns, gets a line of its own, its ratio to the second's, and no goal."""
     rates = {who: [n * r for r in rate] for who, rate in _rates(runs, rounds).items()}
     ours, theirs, *others = rates
-    met = _ratio(rates[ours], rates[theirs]) >= goal
+    ratio, said = _ratios(rates[ours], rates[theirs])
+    met = ratio >= goal
     print(f"   {label} {ours} {_figure(rates[ours])}   {theirs} {_figure(rates[theirs])}   "
-          f"{_ratios(rates[ours], rates[theirs])}   goal >= {goal:g}x: "
-          f"{'met' if met else 'NOT met'}")
+          f"{said}   goal >= {goal:g}x: {'met' if met else 'NOT met'}")
     for other in others:
         print(f"   {' ' * len(label)} {other} {_figure(rates[other])}   "
-              f"{_ratios(rates[other], rates[theirs])} against {theirs}")
+              f"{_ratios(rates[other], rates[theirs])[1]} against {theirs}")
     return 0 if met else 1
 
 
-def _ratio(ours: list[float], theirs: list[float]) -> float:
-    return statistics.median(a / b for a, b in zip(ours, theirs, strict=True))
-
-
-def _ratios(ours: list[float], theirs: list[float]) -> str:
-    """The median of the rounds' ratios, and their spread."""
+def _ratios(ours: list[float], theirs: list[float], digits: int = 2) -> tuple[float, str]:
+    """The median of the rounds' ratios, and it said with their spread."""
     ratios = [a / b for a, b in zip(ours, theirs, strict=True)]
-    return f"{statistics.median(ratios):.2f}x ({min(ratios):.2f}..{max(ratios):.2f})"
+    median = statistics.median(ratios)
+    return median, f"{median:.{digits}f}x ({min(ratios):.{digits}f}..{max(ratios):.{digits}f})"
 
 
 ENVPOOL_GOAL = 2.0  # ours against EnvPool, as many games and workers as cores on both sides
