@@ -7,6 +7,8 @@ from __future__ import annotations
 import contextlib
 import itertools
 import json
+import re
+from collections.abc import Callable
 from pathlib import Path
 from unittest import mock
 
@@ -15,6 +17,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from invaders.app.readbench import (
+    escaped,
     longest_replay,
     read_in_fresh_process,
     reading_bench,
@@ -110,18 +113,86 @@ def test_lines_in_any_shape_json_allows_are_read_a_block_at_a_time(written, tmp_
     assert replay == load(written) == _by_json_alone(path)
 
 
+def _order_a_line() -> Callable[[dict], str]:
+    orders = itertools.cycle(itertools.permutations(canonical.OWN[1]))
+
+    def written(line: dict) -> str:
+        line["checkpoint"] = {name: line["checkpoint"][name] for name in next(orders)}
+        return json.dumps(line, separators=(",", ":"))
+    return written
+
+
+HOSTILE = {  # valid lines as only a hostile file would write them (no tool does)
+    "an order of fields a line": _order_a_line(),
+    "every name and digest escaped": lambda o: escaped(json.dumps(o)),
+    "every zero as -0": lambda o: re.sub(r"\b(?<![1-9])0\b", "-0", json.dumps(o)),
+}
+
+
+@pytest.mark.parametrize("shape", sorted(HOSTILE))
+def test_lines_only_a_hostile_file_writes_are_read_by_the_regular_expressions(
+        written, tmp_path, shape):
+    """What JSON lets a file spell many ways (any order of fields on each line, escapes,
+    -0): the pattern of any order reads them, no line through the JSON parser."""
+    path = tmp_path / "hostile.json"
+    header, *lines = written.read_text().splitlines()
+    path.write_text(header + "\n" + "".join(HOSTILE[shape](json.loads(line)) + "\n"
+                                            for line in lines))
+    assert "\\u" in path.read_text() or shape != "every name and digest escaped"
+    with mock.patch.object(json_block, "read_block", side_effect=AssertionError("JSON")):
+        assert _without_single_lines(path) == load(written) == _by_json_alone(path)
+
+
+EDITS = {  # one line changed: what the regular expressions must not read otherwise than JSON
+    "a field twice, one missing": (r'"shot":', r'"cannon":', "refused"),
+    "a field twice, the last kept": (r'"score":', r'"score":7,"score":', "read"),
+    "an escape in a number": (r'"ships":(\d)', r'"ships":\\u003\1', "refused"),
+    "an escaped backslash": (r'"hash":"[0-9a-f]', r'"hash":"\\\\u0030', "refused"),
+    "an escape of no letter": (r'(?<=[0-9a-f])0(?=[0-9a-f]*")', r'\\u0080', "refused"),
+    "a byte of no text": (r'(?<=[0-9a-f])0(?=[0-9a-f]*")', "\x80", "refused"),  # (no UTF-8)
+    "a comma before a brace": (r'"saucer":(\d+)}', r'"saucer":\1,}', "refused"),
+    "a 19-digit number": (r'"score":\d+', f'"score":{2**63 - 1}', "read"),
+    "one too big": (r'"score":\d+', f'"score":{2**63}', "refused"),
+    "a minus": (r'"wave":(\d+)', r'"wave":-\1', "refused"),
+}
+
+
+@pytest.mark.parametrize("edit", sorted(EDITS))
+def test_a_line_the_regular_expressions_must_not_misread_is_read_as_json_reads_it(
+        written, tmp_path, edit):
+    """Each edit to line 6 reads (or is refused) as the JSON parser alone has it (the
+    file's bytes ASCII but the one the edit puts, if it puts one)."""
+    pattern, replacement, verdict = EDITS[edit]
+    lines = written.read_text().splitlines(keepends=True)
+    lines[5], edits = re.subn(pattern, replacement, lines[5], count=1)
+    path = tmp_path / "edited.json"
+    path.write_bytes("".join(lines).encode("latin-1"))
+    outcome = _outcome(path)
+    assert outcome == _by_json_alone(path) and edits == 1
+    assert str(outcome).startswith("refused: ") if verdict == "refused" else (
+        len(outcome.checkpoints) == len(lines) - 1)
+
+
 def test_a_files_own_order_of_fields_is_learnt_from_its_first_block(tmp_path):
     """Fields in an order no tool of ours writes, the same on every line (as a program
-    written elsewhere would write them): the JSON block reader reads the first block, its
-    order is learnt, and the regular expressions read the other blocks."""
+    written elsewhere would write them): the pattern of any order reads the first block,
+    its order is learnt, and that order's pattern reads the other blocks."""
     path = tmp_path / "reversed.json"
     header, *lines = _long_objects(tmp_path)
     path.write_text("\n".join([json.dumps(header), *(json.dumps(reversed_fields(line))
                                                      for line in lines)]) + "\n")
-    with mock.patch.object(json_block, "read_block", wraps=json_block.read_block) as by_json:
+    taken, columns = [], canonical._columns
+
+    def recorded(*args):
+        taken.append(columns(*args)[0])  # (the order that read the block)
+        return columns(*args)
+
+    with mock.patch.object(json_block, "read_block", side_effect=AssertionError("JSON")
+                           ), mock.patch.object(canonical, "_columns", recorded):
         replay = _without_single_lines(path)
     assert replay == _by_json_alone(path) and len(replay.checkpoints) == len(lines) > 400
-    assert by_json.call_count == 1
+    reverse = canonical.order_of(json.dumps(reversed_fields(lines[0])).encode())
+    assert taken == [canonical.ANY] + [reverse] * (len(taken) - 1) and len(taken) > 2
 
 
 def test_a_file_teaches_only_a_few_orders():
@@ -237,12 +308,15 @@ def compact_mutants(draw, path: Path) -> str:
     """A file in the program's own shape (no spaces) with one change: any value anywhere
     in a checkpoint's line or in an input run (numbers at every edge, a fraction or a truth
     value equal to the number there, a digest a digit short or long), one character, a run
-    split in two (the same inputs, unless a part is empty), a line's fields reordered, a
-    blank line, white space put between a line's tokens, or a lab switch."""
+    split in two (the same inputs, unless a part is empty), a line's fields reordered, an
+    object's fields shuffled, a field written twice or named as another, a character
+    written as JSON's escape of it (in a string or not), a zero as -0, a blank line, white
+    space put between a line's tokens, or a lab switch."""
     objects = [json.loads(line) for line in path.read_text().splitlines()]
     index = draw(st.integers(2, len(objects) - 1))  # (line 2 has no input runs)
-    how = draw(st.sampled_from(["value", "run", "char", "split", "reorder", "blank",
-                                "spaced", "lab"]))
+    how = draw(st.sampled_from(["value", "run", "char", "split", "reorder", "shuffle",
+                                "twice", "rename", "escape", "minus", "blank", "spaced",
+                                "lab"]))
     if how == "run":
         run = draw(st.sampled_from(objects[index]["inputs"]))
         run[draw(st.integers(0, 1))] = draw(st.sampled_from([0, 32, 2**63, MAX_TICKS + 1]))
@@ -270,12 +344,35 @@ def compact_mutants(draw, path: Path) -> str:
         objects[index]["lab"] = [[tick, {"speed": draw(st.integers(0, 2))}]]
     elif how == "reorder":
         objects[index] = dict(reversed(objects[index].items()))
+    elif how == "shuffle":
+        checkpoint = objects[index]["checkpoint"]
+        parent = draw(st.sampled_from([objects, checkpoint, checkpoint]))
+        key = index if parent is objects else draw(st.sampled_from(["counts", "groups"]))
+        names = draw(st.permutations(list(parent[key])))
+        parent[key] = {name: parent[key][name] for name in names}
     text = [json.dumps(o, separators=(",", ":")) + "\n" for o in objects]
+    line = text[index]
     if how == "char":
-        line = text[index]
         at = draw(st.integers(0, len(line) - 2))
-        text[index] = line[:at] + draw(st.sampled_from('0123456789abcdefAF",:[]{} -')) + line[
+        text[index] = line[:at] + draw(st.sampled_from('0123456789abcdefAF",:[]{} -\\')) + line[
             at + 1:]
+    elif how == "escape":  # (its code's hex digits in capitals or not)
+        at = draw(st.integers(0, len(line) - 2))
+        escape = draw(st.sampled_from(["\\u%04x", "\\u%04X"])) % ord(line[at])
+        text[index] = line[:at] + escape + line[at + 1:]
+    elif how == "minus":
+        zeros = [at for at in range(1, len(line)) if line[at - 1:at + 2] in (":0,", ":0}", "[0,")]
+        at = draw(st.sampled_from(zeros or [0]))
+        text[index] = line[:at] + "-" + line[at:]
+    elif how == "twice":  # a field written again before any field (JSON: the last counts)
+        name = draw(st.sampled_from(sorted(set(re.findall(r'"(\w+)":', line)))))
+        at = draw(st.sampled_from([found.start() for found in re.finditer(r'"\w+":', line)]))
+        value = draw(st.sampled_from(["7", '{"cannon":0}', '"0"', "[]"]))
+        text[index] = line[:at] + f'"{name}":{value},' + line[at:]
+    elif how == "rename":  # a field named as another (of its object: one twice, one missing)
+        name = draw(st.sampled_from(re.findall(r'"(\w+)":', line)))
+        at = draw(st.sampled_from([found.start() for found in re.finditer(r'"\w+":', line)]))
+        text[index] = line[:at] + f'"{name}"' + line[line.index(":", at):]
     elif how == "blank":
         text.insert(index, " " * draw(st.integers(0, 2)) + "\n")
     elif how == "spaced":  # white space where JSON allows it, a little or a lot
@@ -345,5 +442,5 @@ def test_the_reading_bench_reads_the_valid_files_and_refuses_the_hostile_ones():
     rows = [line.split() for line in lines[1:]]
     verdicts = [row[row.index("s") - 2] for row in rows]  # (the word before the seconds)
     assert lines[0].startswith("reading files at the size limit (2,097,152 bytes), 1 rounds")
-    assert verdicts == ["read"] * 7 + ["refused"] * 4 and met, lines
-    assert [row[-1] for row in rows] == ["met"] * 11
+    assert verdicts == ["read"] * 8 + ["refused"] * 4 and met, lines
+    assert [row[-1] for row in rows] == ["met"] * 12

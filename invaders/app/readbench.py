@@ -4,12 +4,13 @@ Files at the size limit (64 MB) are made in a temporary folder: the longest vali
 (the program's own lines, one a second of play, 8.7 million ticks), the same written with
 json.dumps' default spacing, with a lab switch every 500 lines (a line the JSON parser
 reads on its own), with its fields sorted (as tools that sort them write them), in reverse
-order (an order learnt from the first block), in an order of their own on every line (the
-JSON block reader reads it) and with the most lab switches a replay may hold, one a line
-from the start; and four hostile ones: a header holding 64 MB of empty objects, of
-fractions or of fields, and 64 MB of lab switches. Each round reads each in a fresh
-process, taking turns; printed: the seconds `load` took and the process's peak memory,
-medians over the rounds with their spread, against the goal of 2 s and 100 MB.
+order (an order learnt from the first block), in an order of their own on every line and
+with every name and digest escaped (as only hostile files are: the pattern of any order
+reads them), and with the most lab switches a replay may hold, one a line from the start;
+and four hostile ones: a header holding 64 MB of empty objects, of fractions or of
+fields, and 64 MB of lab switches. Each round reads each in a fresh process, taking
+turns; printed: the seconds `load` took and the process's peak memory, medians over the
+rounds with their spread, against the goal of 2 s and 100 MB.
 """
 
 from __future__ import annotations
@@ -70,18 +71,29 @@ def longest_replay(path: Path, folder: Path, size: int = MAX_FILE_BYTES) -> int:
 
 
 def rewritten(source: Path, path: Path, size: int = MAX_FILE_BYTES,
-              change: Callable[[Any], Any] = lambda value: value, **dumps: Any) -> int:
+              change: Callable[[Any], Any] = lambda value: value,
+              spelling: Callable[[str], str] = str, **dumps: Any) -> int:
     """Write `source`'s lines to `path` as `json.dumps(**dumps)` writes them (each value
-    changed by `change` first), as many whole lines as fit in `size` bytes. Returns the
-    ticks they cover."""
+    changed by `change` first, each line's text by `spelling` last), as many whole lines as
+    fit in `size` bytes. Returns the ticks they cover."""
     with source.open() as lines:
         return _capped(path, (json.dumps(change(json.loads(line)), **dumps) + "\n"
-                              for line in lines), size)
+                              for line in lines), size, spelling)
+
+
+def escaped(line: str) -> str:
+    """The line with every character of every name and digest written as JSON's escape of
+    it (the same line, as only a hostile file would spell it)."""
+    return _WORD.sub(lambda word: "".join(f"\\u{ord(char):04x}" for char in word[0]), line)
+
+
+_WORD = re.compile(r'(?<=")\w+(?=")')
 
 
 def order_each_line() -> Callable[[Any], Any]:
     """A change to lines that gives each line's counts its fields in the next of their 720
-    orders (no order learnt from one block fits the next: the JSON block reader reads it)."""
+    orders (no order learnt from one block fits the next: the pattern of any order reads
+    it)."""
     orders = itertools.cycle(itertools.permutations(COUNT_NAMES))
 
     def change(value: Any) -> Any:
@@ -95,7 +107,7 @@ def order_each_line() -> Callable[[Any], Any]:
 
 def reversed_fields(value: Any) -> Any:
     """The same JSON value with every object's fields in the opposite order (an order no
-    tool writes: the JSON block reader reads it)."""
+    tool writes: learnt from the file's first block)."""
     if isinstance(value, dict):
         return {key: reversed_fields(item) for key, item in reversed(value.items())}
     return value
@@ -126,16 +138,19 @@ _CHOICE = {"speed": 1}  # (a lab's choice: reading does not check what one means
 _PADDED = {"speed": 1, "pad": "thirty-two characters at least"}
 
 
-def _capped(path: Path, lines: Iterable[str], size: int) -> int:
-    """Write whole lines to `path` while they fit in `size` bytes: the last one's tick."""
+def _capped(path: Path, lines: Iterable[str], size: int,
+            spelling: Callable[[str], str] = str) -> int:
+    """Write whole lines to `path`, each spelt by `spelling`, while they fit in `size`
+    bytes: the last one's tick."""
     ticks, written = 0, 0
     with path.open("w") as out:
-        for text in lines:
+        for line in lines:
+            text = spelling(line)
             written += len(text)
             if written > size:
                 break
             out.write(text)
-            ticks = _tick(text, ticks)
+            ticks = _tick(line, ticks)
     return ticks
 
 
@@ -202,14 +217,16 @@ def reading_bench(rounds: int, size: int = MAX_FILE_BYTES) -> tuple[list[str], b
         compact = {"separators": (",", ":")}
         ordered_ticks = rewritten(longest, ordered, size, sort_keys=True, **compact)
         reordered_ticks = rewritten(longest, reordered, size, reversed_fields, **compact)
-        varied = folder / "varied.json"
+        varied, spelt = folder / "varied.json", folder / "escaped.json"
         varied_ticks = rewritten(longest, varied, size, order_each_line(), **compact)
+        spelt_ticks = rewritten(longest, spelt, size, spelling=escaped, **compact)
         files = {f"the longest valid replay ({ticks:,} ticks)": longest,
                  f"the same spaced as json.dumps ({spaced_ticks:,})": spaced,
                  f"the same, a lab switch every 500 lines ({switched_ticks:,})": switched,
                  f"the same, fields sorted ({ordered_ticks:,})": ordered,
                  f"the same, fields in reverse order ({reordered_ticks:,})": reordered,
                  f"the same, an order of fields a line ({varied_ticks:,})": varied,
+                 f"the same, every name and digest escaped ({spelt_ticks:,})": spelt,
                  f"the same, {MAX_SWITCHES:,} lab switches first ({most_ticks:,})": most,
                  **hostile_headers(folder, longest.open().readline().rstrip("\n"), size),
                  f"{size / 2**20:.4g} MB of lab switches": flood}

@@ -1,4 +1,4 @@
-"""Checkpoint lines in the shapes tools write them, read a block at a time.
+"""Checkpoint lines read a block at a time by regular expressions, however JSON spells them.
 
 Reading a replay near the size limit (145,000 checkpoint lines) through the JSON parser, a
 check of every field and a Checkpoint object a line took 16 s and 520 MB. The lines this
@@ -6,23 +6,27 @@ program writes all have one shape, so a block of them (64 KB, some 140 lines) is
 one regular expression and its fields taken a column at a time: about 9 microseconds a
 line. Only the shape is read here, and the one fact that needs no limit: each hash is the
 digest of its groups. The same lines with every object's fields sorted (as tools that sort
-them write them), in an order learnt from the file (Orders), or with a little white space
-between tokens (as `json.dumps` writes by default, or Windows' line ends), are read the
-same way, by a pattern of their own. A block of which any line has another shape is left
-to the JSON block reader (json_block.py).
+them write them) or in an order learnt from the file (Orders), with white space between
+tokens or not, are read by a pattern of their order; lines whose fields are in any order
+(a hostile file may change it every line), by one pattern that takes each object's fields
+in any order, about two thirds as fast. JSON's escapes of the letters and digits that names and
+digests hold, and -0, are read as what they stand for (Plain). A block of which any line
+has another shape (a field twice, a lab switch) is left to the JSON block reader
+(json_block.py).
 
-A line that matches is, as JSON, an object of exactly these fields in one of these orders,
-its numbers whole and below 2**63, its digests lower-case hex, no escapes.
+A line that matches is, as JSON, an object of exactly these fields, its numbers whole (and
+of at most 19 digits: read_block bounds them), its digests lower-case hex.
 """
 
 from __future__ import annotations
 
+import codecs
 import functools
 import json
 import re
 import sys
 from binascii import unhexlify
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from itertools import accumulate, repeat
 from typing import Any, NamedTuple
 
@@ -30,10 +34,12 @@ from invaders.game.checkpoint import COUNT_NAMES
 from invaders.game.replay_format import CHECKPOINT_FIELDS, LINE_FIELDS
 from invaders.game.statehash import GROUPS, LISTED, digest_listed
 
-_NUMBER = rb"(?:0|[1-9][0-9]{0,17})"
+_NUMBER = rb"(?:0|[1-9][0-9]{0,18})"  # (19 digits may pass 2**63 - 1: bounded after)
+_LARGEST = b"%d" % (2**63 - 1)
+_HEX = rb"[0-9a-f\x80-\x89]"  # (from 0x80: an escaped digit, as Plain leaves it)
 _RUN = rb"\[~%s~,~%s~\]" % (_NUMBER, _NUMBER)
 # Each value of a line, in the order its columns are taken (counts and groups share names).
-COLUMNS = ("inputs", "tick", "hash", "score", "ships", "wave",
+COLUMNS = ("runs", "inputs", "tick", "hash", "score", "ships", "wave",
            *[f"count_{name}" for name in COUNT_NAMES], *[f"group_{name}" for name in GROUPS])
 
 
@@ -46,61 +52,66 @@ def _value(column: str, pattern: bytes) -> bytes:
 Order = tuple[tuple[str, ...], tuple[str, ...], tuple[str, ...], tuple[str, ...]]
 OWN: Order = (LINE_FIELDS, CHECKPOINT_FIELDS, COUNT_NAMES, GROUPS)
 SORTED: Order = tuple(tuple(sorted(names)) for names in OWN)  # type: ignore[assignment]
+ANY = None  # (in place of an order: each object's fields in any order)
 
 
-def _object(fields: dict[str, bytes], names: tuple[str, ...]) -> bytes:
-    """A JSON object's pattern from its fields' patterns, in the order `names` gives,
-    `~` where JSON allows white space."""
-    return rb"\{~%s~\}" % b"~,~".join(b'"%s"~:~%s' % (name.encode(), fields[name])
-                                        for name in names)
+def _object(fields: dict[str, bytes], names: tuple[str, ...] | None) -> bytes:
+    """A JSON object's pattern from its fields' patterns, in the order `names` gives (None:
+    in any order), `~` where JSON allows white space."""
+    pairs = [b'"%s"~:~%s' % (name.encode(), fields[name]) for name in names or fields]
+    if names is not None:
+        return rb"\{~%s~\}" % b"~,~".join(pairs)
+    # As many fields as the object has, each any of them, each followed by a comma (but
+    # not before the brace) or the brace: a field twice leaves another's groups empty.
+    return rb"\{(?:~(?:%s)~(?:,(?!~\})|(?=\}))){%d}\}" % (b"|".join(pairs), len(pairs))
 
 
-def _shape(order: Order) -> bytes:
-    """A checkpoint's line with its objects' fields in `order`, a named group a value."""
-    line, checkpoint, counts, groups = order
+def _shape(order: Order | None) -> bytes:
+    """A checkpoint's line with its objects' fields in `order` (or ANY), a named group a
+    value."""
+    line, checkpoint, counts, groups = order or (None,) * 4
     count_fields = {name: _value(f"count_{name}", _NUMBER) for name in COUNT_NAMES}
-    group_fields = {name: b'"%s"' % _value(f"group_{name}", rb"[0-9a-f]{16}")
-                    for name in GROUPS}
+    group_fields = {name: b'"%s"' % _value(f"group_{name}", _HEX + b"{16}") for name in GROUPS}
     checkpoint_fields = {
-        "tick": _value("tick", _NUMBER), "hash": b'"%s"' % _value("hash", rb"[0-9a-f]{32}"),
+        "tick": _value("tick", _NUMBER), "hash": b'"%s"' % _value("hash", _HEX + b"{32}"),
         **{name: _value(name, _NUMBER) for name in ("score", "ships", "wave")},
         "counts": _object(count_fields, counts), "groups": _object(group_fields, groups)}
     line_fields = {
-        "inputs": rb"\[~%s~\]" % _value("inputs", rb"(?:%s(?:~,~%s)*)?" % (_RUN, _RUN)),
+        "inputs": _value("inputs", rb"\[~%s~\]" % _value("runs", rb"(?:%s(?:~,~%s)*)?" % (
+            _RUN, _RUN))),  # (the runs, maybe none; the inputs never empty, if there)
         "checkpoint": _object(checkpoint_fields, checkpoint)}
     return rb"^~%s~$" % _object(line_fields, line)
 
 
-# A little white space anywhere JSON allows it (as `json.dumps` writes by default, or a line
-# ending in \r\n): more than this, and the JSON block reader reads the line.
-# (From Python 3.11 the gap's repeat is possessive: it never gives back white space it took,
-# and nothing after a gap starts with white space, so the matches are the same, found
-# sooner: 1.27x over the blocks of a spaced file, the median of 9 rounds in turn.)
-_GAP = rb"[ \t\r]{0,8}" + (b"+" if sys.version_info >= (3, 11) else b"")
+# White space anywhere JSON allows it (as `json.dumps` writes by default, or a line ending
+# in \r\n). (From Python 3.11 the gap's repeat is possessive: it never gives back white
+# space it took, and nothing after a gap starts with white space, so the matches are the
+# same, found sooner: 1.27x over the blocks of a spaced file, the median of 9 rounds in turn.)
+_GAP = rb"[ \t\r]*" + (b"+" if sys.version_info >= (3, 11) else b"")
 
 
 @functools.lru_cache(maxsize=64)  # (kept for the files read after: a few milliseconds each)
-def _compiled(order: Order, gap: bytes) -> tuple[re.Pattern[bytes], list[int]]:
+def _compiled(order: Order | None, gap: bytes) -> tuple[re.Pattern[bytes], list[int]]:
     """A shape's pattern (`gap` where JSON allows white space), and where each of COLUMNS
     is in its matches' groups."""
     pattern = re.compile(_shape(order).replace(b"~", gap), re.MULTILINE)
     return pattern, [pattern.groupindex[column] - 1 for column in COLUMNS]
 
 
-# More than a line holds besides its input runs (18-digit numbers and every gap included).
-REST = 1024 + 8 * _shape(OWN).count(b"~")
-
-
 class Orders:
     """The orders of fields a file's blocks are tried in: the program's and sorted (as
     `sort_keys=True`, `jq -S` and Go's maps write them), then the orders of up to LEARNED
-    blocks the JSON block reader took (a tool of any other order writes them all in one):
-    each order a pattern to compile, so a file cannot make many."""
+    blocks that only ANY took (a tool of any other order writes them all in one; a
+    block's own order reads it about 1.5 times as fast as ANY): each order a pattern to
+    compile, so a file cannot make many; ANY last."""
 
     LEARNED = 4
 
     def __init__(self) -> None:
         self.orders: list[Order] = [OWN, SORTED]
+
+    def __iter__(self) -> Iterator[Order | None]:
+        return iter([*self.orders, ANY])
 
     def learn(self, block: bytes) -> None:
         """Try the order of the block's first line on the blocks after it (while fewer
@@ -123,6 +134,42 @@ def order_of(line: bytes) -> Order | None:
     return order if tuple(map(sorted, order)) == tuple(map(sorted, SORTED)) else None
 
 
+class Plain(NamedTuple):
+    """A block with what JSON lets a valid line spell two ways spelt one way: each escape
+    of a letter as the letter, of a digit as a byte from 0x80 (which _HEX takes, and no
+    number: in a number an escape is no JSON), and -0 as 0 (a minus sign is in no valid
+    line's string)."""
+    text: bytes
+    escaped: bool  # (the digests' escaped digits are turned back by `digits`)
+
+    @classmethod
+    def of(cls, block: bytes) -> Plain | None:
+        """The block spelt plainly; None if it is not ASCII (no valid line's values are)
+        or has a backslash that is not such an escape (an escaped backslash, too)."""
+        if not block.isascii():
+            return None
+        text = block.replace(b"-0", b"0") if b"-" in block else block
+        if b"\\" not in text:
+            return cls(text, False)
+        if _OTHER_BACKSLASH.search(text):
+            return None
+        # (Python's own escapes are JSON's where every backslash is \u00 and a code
+        # below 0x80; a digit's code moved up by 0x50.)
+        text = codecs.decode(text.replace(b"\\u003", b"\\u008"), "unicode_escape")
+        return cls(text.encode("latin-1"), True)
+
+    def digits(self, digests: tuple[bytes, ...]) -> tuple[bytes, ...]:
+        """A digest column's values with their escaped digits turned back."""
+        if not self.escaped:
+            return digests
+        return tuple(b",".join(digests).translate(_DIGITS_BACK).split(b","))
+
+
+# A backslash that does not start the escape of a digit or a letter.
+_OTHER_BACKSLASH = re.compile(rb"\\(?!u00(?:3[0-9]|6[1-9a-fA-F]|7[0-9aA]))")
+_DIGITS_BACK = bytes.maketrans(bytes(range(0x80, 0x8a)), b"0123456789")
+
+
 class Block(NamedTuple):
     """The lines of a block, as columns (nothing here is checked against a limit yet)."""
     bits: list[int]  # every input run's bits, in order
@@ -135,32 +182,50 @@ class Block(NamedTuple):
     switches: list[tuple[int, Any]]  # each line's lab switches as JSON gives them, by index
 
 
-def read_block(block: bytes, orders: Sequence[Order] = (OWN, SORTED)) -> Block | None:
+def read_block(block: bytes, orders: Orders | None = None) -> Block | None:
     """The block's lines (each ending in a newline) as columns, when every line has one of
-    the shapes (the orders, each plain or with a little white space) and every hash is the
-    digest of its groups; else None."""
-    columns = _columns(block, orders)
+    the shapes (the orders', with white space or not) and every hash is the digest of its
+    groups; else None. A block only ANY took teaches `orders` its order."""
+    plain = Plain.of(block)
+    columns = None if plain is None else _columns(plain.text, orders or Orders())
     if columns is None:  # a line of another shape
         return None
-    runs, ticks, hashes, *columns = columns
+    order, (runs, _, ticks, hashes, *columns) = columns
     numbers, groups = columns[:-len(GROUPS)], columns[-len(GROUPS):]
-    digests = hashed(hashes, groups)
-    if digests is None:
+    digests = hashed(plain.digits(hashes), [*map(plain.digits, groups)])
+    values = [*map(b",".join, zip(*numbers, strict=True))]
+    if digests is None or not _bounded(values):
         return None
+    if order is ANY and orders is not None:
+        orders.learn(block)
     # Every run's bits and count in turn (each already read as a JSON number), then the
     # ticks they cover up to each line's end.
     flat = json.loads(b"[%s]" % b",".join(filter(None, runs)).translate(None, b"[]"))
     runs_ended = accumulate(map(bytes.count, runs, repeat(b"[")))
     covered = [0, *accumulate(flat[1::2])]
     return Block(flat[0::2], flat[1::2], [covered[end] for end in runs_ended],
-                 max(map(len, runs)) + REST, [*map(int, ticks)],
-                 [*map(b",".join, zip(*numbers, strict=True))], digests, [])
+                 len(block), [*map(int, ticks)], values, digests, [])
 
 
-def _columns(block: bytes, orders: Sequence[Order]) -> list[tuple[bytes, ...]] | None:
-    """The lines' values, a column each in COLUMNS' order, when all have one of the shapes
-    (the shapes with white space tried only on a block that holds some: on a block of
-    lines of the program's shape but one, each would read all but that one again)."""
+def _bounded(values: list[bytes]) -> bool:
+    """Whether every number in the lines' values (each line's joined by commas) is at most
+    2**63 - 1, the most a field holds. (Values too short to hold a number of 19 digits, as
+    every line's of a game are, are not split.)"""
+    if max(map(len, values)) < _SHORTEST_WITH_19:
+        return True
+    return all(len(number) < len(_LARGEST) or number <= _LARGEST
+               for number in b",".join(values).split(b","))
+
+
+_SHORTEST_WITH_19 = len(_LARGEST) + 2 * (3 + len(COUNT_NAMES) - 1)  # (the others 1 digit)
+
+
+def _columns(block: bytes, orders: Orders
+             ) -> tuple[Order | None, list[tuple[bytes, ...]]] | None:
+    """The order that read the lines, and their values, a column each in COLUMNS' order,
+    when all have one of the shapes (the shapes with white space tried only on a block that
+    holds some: on a block of lines of the program's shape but one, each would read all but
+    that one again)."""
     lines, spaced = block.count(b"\n"), any(map(block.__contains__, (b" ", b"\t", b"\r")))
     for order, gap in ((order, gap) for order in orders for gap in (b"", _GAP)):
         if gap and not spaced:
@@ -169,7 +234,11 @@ def _columns(block: bytes, orders: Sequence[Order]) -> list[tuple[bytes, ...]] |
         rows = pattern.findall(block) if pattern.match(block) else []  # (a match: a line)
         if rows and len(rows) == lines:
             matched = [*zip(*rows, strict=True)]
-            return [matched[index] for index in taken]
+            columns = [matched[index] for index in taken]
+            if order is ANY and any(b"" in column for column in columns[1:]):
+                return None  # (a field twice, another missing: its values empty; only the
+                # runs, first, may be empty, their inputs never)
+            return order, columns
     return None
 
 

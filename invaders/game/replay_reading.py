@@ -3,13 +3,13 @@
 Only a regular file up to the size limit is read. The header (or a whole version-1 file) is
 read first, bounded; the rest a block of whole lines at a time, so a file's text is never
 held whole and a line too long is never kept. Each block is read whole by a regular
-expression when its lines are in a shape tools write (canonical.py), else by the JSON parser
-and checks a column at a time (json_block.py); a block neither takes (a lab switch, a value
-out of place) again by halves, down to the lines that are read one by one through the JSON
-parser and every field's check (replay_checks.py), which name any problem: the same result
-by every way. The replay is kept packed
-(checkpoint.py, runs.py): a replay at the size limit takes memory in proportion to what it
-means, not to the file's size.
+expression when its lines are checkpoints' lines in any order, spacing or escaping of
+letters and digits (canonical.py), else by the JSON parser and checks a column at a time
+(json_block.py); a block neither takes (a lab switch, a value out of place) again by
+halves, down to the lines that are read one by one through the JSON parser and every
+field's check (replay_checks.py), which name any problem: the same result by every way. The
+replay is kept packed (checkpoint.py, runs.py): a replay at the size limit takes memory in
+proportion to what it means, not to the file's size.
 """
 
 from __future__ import annotations
@@ -136,11 +136,9 @@ def _block(block: bytes, total: int, runs: Runs, checkpoints: Checkpoints,
     take, such as a lab switch's, is read on its own: for one line the JSON block reader's
     columns cost more than a line's field checks: a 64 MB replay with 10,000 lab switches
     read in 2.8 s, against 3.5 s, in one run of a script each way.)"""
-    read = canonical.read_block(block, orders.orders)
+    read = canonical.read_block(block, orders)
     if read is None and block.count(b"\n") > 1:
         read = json_block.read_block(block)
-        if read is not None:  # (the blocks after it may well be in its order)
-            orders.learn(block)
     if read is None:
         return None
     ends = [total + end for end in read.ends]
