@@ -126,6 +126,8 @@ HOSTILE = {  # valid lines as only a hostile file would write them (no tool does
     "an order of fields a line": _order_a_line(),
     "every name and digest escaped": lambda o: escaped(json.dumps(o)),
     "every zero as -0": lambda o: re.sub(r"\b(?<![1-9])0\b", "-0", json.dumps(o)),
+    "a field twice on every line": lambda o: json.dumps(o).replace(
+        '"wave":', '"wave": 7, "wave":'),  # (JSON keeps the last)
 }
 
 
@@ -133,7 +135,8 @@ HOSTILE = {  # valid lines as only a hostile file would write them (no tool does
 def test_lines_only_a_hostile_file_writes_are_read_by_the_regular_expressions(
         written, tmp_path, shape):
     """What JSON lets a file spell many ways (any order of fields on each line, escapes,
-    -0): the pattern of any order reads them, no line through the JSON parser."""
+    -0, a field written again): the pattern of any order reads them, no line through the
+    JSON parser."""
     path = tmp_path / "hostile.json"
     header, *lines = written.read_text().splitlines()
     path.write_text(header + "\n" + "".join(HOSTILE[shape](json.loads(line)) + "\n"
@@ -146,6 +149,9 @@ def test_lines_only_a_hostile_file_writes_are_read_by_the_regular_expressions(
 EDITS = {  # one line changed: what the regular expressions must not read otherwise than JSON
     "a field twice, one missing": (r'"shot":', r'"cannon":', "refused"),
     "a field twice, the last kept": (r'"score":', r'"score":7,"score":', "read"),
+    "an object twice, the last whole": (r'("counts":\{[^}]*\})', r'\1,\1', "read"),
+    "an object twice, the last a part": (r'"groups":', r'"counts":{"cannon":0},"groups":',
+                                         "refused"),
     "an escape in a number": (r'"ships":(\d)', r'"ships":\\u003\1', "refused"),
     "an escaped backslash": (r'"hash":"[0-9a-f]', r'"hash":"\\\\u0030', "refused"),
     "an escape of no letter": (r'(?<=[0-9a-f])0(?=[0-9a-f]*")', r'\\u0080', "refused"),

@@ -10,9 +10,9 @@ them write them) or in an order learnt from the file (Orders), with white space 
 tokens or not, are read by a pattern of their order; lines whose fields are in any order
 (a hostile file may change it every line), by one pattern that takes each object's fields
 in any order, about two thirds as fast. JSON's escapes of the letters and digits that names and
-digests hold, and -0, are read as what they stand for (Plain). A block of which any line
-has another shape (a field twice, a lab switch) is left to the JSON block reader
-(json_block.py).
+digests hold, and -0, are read as what they stand for (Plain). A field written twice
+is read as JSON reads it (the last kept). A block of which any line has another shape (a
+lab switch, an object written twice) is left to the JSON block reader (json_block.py).
 
 A line that matches is, as JSON, an object of exactly these fields, its numbers whole (and
 of at most 19 digits: read_block bounds them), its digests lower-case hex.
@@ -61,9 +61,10 @@ def _object(fields: dict[str, bytes], names: tuple[str, ...] | None) -> bytes:
     pairs = [b'"%s"~:~%s' % (name.encode(), fields[name]) for name in names or fields]
     if names is not None:
         return rb"\{~%s~\}" % b"~,~".join(pairs)
-    # As many fields as the object has, each any of them, each followed by a comma (but
-    # not before the brace) or the brace: a field twice leaves another's groups empty.
-    return rb"\{(?:~(?:%s)~(?:,(?!~\})|(?=\}))){%d}\}" % (b"|".join(pairs), len(pairs))
+    # Fields, each any of them, each followed by a comma (but not before the brace) or the
+    # brace. A field written again: its group keeps the last, as JSON does; see _columns
+    # for an object written again, or a field missing.
+    return rb"\{(?:~(?:%s)~(?:,(?!~\})|(?=\})))+\}" % b"|".join(pairs)
 
 
 def _shape(order: Order | None) -> bytes:
@@ -235,11 +236,21 @@ def _columns(block: bytes, orders: Orders
         if rows and len(rows) == lines:
             matched = [*zip(*rows, strict=True)]
             columns = [matched[index] for index in taken]
-            if order is ANY and any(b"" in column for column in columns[1:]):
-                return None  # (a field twice, another missing: its values empty; only the
-                # runs, first, may be empty, their inputs never)
+            if order is ANY and not _once_each(block, lines, columns):
+                return None
             return order, columns
     return None
+
+
+def _once_each(block: bytes, lines: int, columns: list[tuple[bytes, ...]]) -> bool:
+    """Whether ANY's lines have every field (a field missing leaves its values empty: only
+    the runs, first, may be empty, their inputs never) and each object once (its fields'
+    groups may hold an earlier one's values; no name is in a value)."""
+    return (not any(b"" in column for column in columns[1:])
+            and all(block.count(b'"%s"' % name) == lines for name in _OBJECTS))
+
+
+_OBJECTS = (b"inputs", b"checkpoint", b"counts", b"groups")
 
 
 def hashed(hashes: Sequence[bytes], groups: Sequence[Sequence[bytes]]) -> list[bytes] | None:

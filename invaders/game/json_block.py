@@ -2,7 +2,7 @@
 
 The regular expressions (canonical.py) read checkpoint lines in any order of fields, with
 any white space, with JSON's escapes of letters and digits. What they leave: lines with lab
-switches (a run of them is cut out of its block for this reader), a field written twice
+switches (a run of them is cut out of its block for this reader), an object written twice
 (JSON keeps the last), any other escape. A block of such lines is parsed a line at a time
 by the JSON parser alone, then checked and taken a column at a time, each step a single
 call over the block's lines (map, itemgetter, join, a regular expression), as canonical.py
