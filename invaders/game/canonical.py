@@ -7,12 +7,12 @@ one regular expression and its fields taken a column at a time: about 9 microsec
 line. Only the shape is read here, and the one fact that needs no limit: each hash is the
 digest of its groups. The same lines with every object's fields sorted (as tools that sort
 them write them) or in an order learnt from the file (Orders), with white space between
-tokens or not, are read by a pattern of their order; lines whose fields are in any order
-(a hostile file may change it every line), by one pattern that takes each object's fields
-in any order, about two thirds as fast. JSON's escapes of the letters and digits that names and
-digests hold, and -0, are read as what they stand for (Plain). A field written twice
-is read as JSON reads it (the last kept). A block of which any line has another shape (a
-lab switch, an object written twice) is left to the JSON block reader (json_block.py).
+tokens or not, are read by a pattern of their order; lines whose fields are in any order (a
+hostile file may change it every line), by one pattern that takes each object's fields in
+any order, about two thirds as fast. JSON's escapes of the letters and digits that names
+and digests hold, and -0, are read as what they stand for (Plain). A field written twice is
+read as JSON reads it (the last kept). A block of which any line has another shape (a lab
+switch, an object written twice) is left to the JSON block reader (json_block.py).
 
 A line that matches is, as JSON, an object of exactly these fields, its numbers whole (and
 of at most 19 digits: read_block bounds them), its digests lower-case hex.
