@@ -231,8 +231,12 @@ def _columns(block: bytes, orders: Orders
     """The order that read the lines, and their values, a column each in COLUMNS' order,
     when all have one of the shapes (the shapes with white space tried only on a block that
     holds some: on a block of lines of the program's shape but one, each would read all but
-    that one again)."""
+    that one again). Each line has four objects, each once: four braces a line, as no value
+    holds one (an object written twice is left to the JSON block reader: ANY's groups
+    might hold the earlier one's values)."""
     lines, spaced = block.count(b"\n"), any(map(block.__contains__, (b" ", b"\t", b"\r")))
+    if block.count(b"{") != _OBJECTS * lines:
+        return None
     for order, gap in ((order, gap) for order in orders for gap in (b"", _GAP)):
         if gap and not spaced:
             continue
@@ -241,18 +245,11 @@ def _columns(block: bytes, orders: Orders
         if rows and len(rows) == lines:
             matched = [*zip(*rows, strict=True)]
             columns = [matched[index] for index in taken]
-            if order is ANY and not _once_each(block, lines, columns):
-                return None
+            if order is ANY and any(b"" in column for column in columns[1:]):
+                return None  # (a field missing: its values empty; only the runs, first,
+                # may be empty, their inputs never)
             return order, columns
     return None
-
-
-def _once_each(block: bytes, lines: int, columns: list[tuple[bytes, ...]]) -> bool:
-    """Whether ANY's lines have every field (a field missing leaves its values empty: only
-    the runs, first, may be empty, their inputs never) and each object once (its fields'
-    groups might hold an earlier one's values): four braces a line, and no value holds one."""
-    return (not any(b"" in column for column in columns[1:])
-            and block.count(b"{") == _OBJECTS * lines)
 
 
 _OBJECTS = 4  # (the line, its checkpoint, the counts and the groups)
