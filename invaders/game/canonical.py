@@ -95,7 +95,6 @@ def _shape(order: Order | None) -> bytes:
     return rb"^~%s~$" % _object(line_fields, line)
 
 
-
 @functools.lru_cache(maxsize=64)  # (kept for the files read after: a few milliseconds each)
 def _compiled(order: Order | None, gap: bytes) -> tuple[re.Pattern[bytes], list[int]]:
     """A shape's pattern (`gap` where JSON allows white space), and where each of COLUMNS
