@@ -230,15 +230,15 @@ def _columns(block: bytes, orders: Orders
     """The order that read the lines, and their values, a column each in COLUMNS' order,
     when all have one of the shapes (the shapes with white space tried only on a block that
     holds some: on a block of lines of the program's shape but one, each would read all but
-    that one again). Each line has four objects, each once: four braces a line, as no value
-    holds one (an object written twice is left to the JSON block reader: ANY's groups
-    might hold the earlier one's values)."""
+    that one again). ANY only takes lines of four objects, each once: four braces a line,
+    as no value holds one (an object written twice is left to the JSON block reader: ANY's
+    groups might hold the earlier one's values)."""
     lines, spaced = block.count(b"\n"), any(map(block.__contains__, (b" ", b"\t", b"\r")))
-    if block.count(b"{") != _OBJECTS * lines:
-        return None
     for order, gap in ((order, gap) for order in orders for gap in (b"", _GAP)):
         if gap and not spaced:
             continue
+        if order is ANY and block.count(b"{") != _OBJECTS * lines:
+            return None
         pattern, taken = _compiled(order, gap)
         rows = pattern.findall(block) if pattern.match(block) else []  # (a match: a line)
         if rows and len(rows) == lines:
