@@ -244,7 +244,7 @@ def _columns(block: bytes, orders: Orders
         if rows and len(rows) == lines:
             matched = [*zip(*rows, strict=True)]
             columns = [matched[index] for index in taken]
-            if order is ANY and any(b"" in column for column in columns[1:]):
+            if order is ANY and not all(map(all, columns[1:])):
                 return None  # (a field missing: its values empty; only the runs, first,
                 # may be empty, their inputs never)
             return order, columns
