@@ -16,6 +16,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from invaders.app.readbench import (
+    counts_twice,
     escaped,
     longest_replay,
     order_each_line,
@@ -97,17 +98,20 @@ SHAPES = {  # how other tools may write the same lines again
                                                      "\r" * 9 + ":" + " \t" * 5)),
     "escaped names": lambda o: json.dumps(o).replace('"tick"', '"\\u0074ick"'),
     "blank lines between": lambda o: json.dumps(o) + "\n \t\n",
+    "counts twice": lambda o: counts_twice(json.dumps(o, separators=(",", ":"))),
 }
 
 
 @pytest.mark.parametrize("shape", sorted(SHAPES))
 def test_lines_in_any_shape_json_allows_are_read_a_block_at_a_time(written, tmp_path, shape):
-    """Fields in another order, wide white space, escapes in names: the JSON block reader
-    takes whole blocks of them (no line is read on its own), the replay the same."""
+    """Fields in another order, wide white space, escapes in names, an object twice: the
+    JSON block reader takes whole blocks of them (no line is read on its own), the replay
+    the same."""
     path = tmp_path / "other.json"
     header, *lines = written.read_text().splitlines()
     path.write_text(header + "\n" + "".join(SHAPES[shape](json.loads(line)) + "\n"
                                             for line in lines))
+    assert path.read_text() != written.read_text()
     with mock.patch.object(canonical, "read_block", return_value=None):
         replay = _without_single_lines(path)
     assert replay == load(written) == _by_json_alone(path)
@@ -441,5 +445,5 @@ def test_the_reading_bench_reads_the_valid_files_and_refuses_the_hostile_ones():
     rows = [line.split() for line in lines[1:]]
     verdicts = [row[row.index("s") - 2] for row in rows]  # (the word before the seconds)
     assert lines[0].startswith("reading files at the size limit (2,097,152 bytes), 1 rounds")
-    assert verdicts == ["read"] * 8 + ["refused"] * 4 and met, lines
-    assert [row[-1] for row in rows] == ["met"] * 12
+    assert verdicts == ["read"] * 9 + ["refused"] * 4 and met, lines
+    assert [row[-1] for row in rows] == ["met"] * 13

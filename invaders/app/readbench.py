@@ -6,11 +6,12 @@ json.dumps' default spacing, with a lab switch every 500 lines (a line the JSON 
 reads on its own), with its fields sorted (as tools that sort them write them), in reverse
 order (an order learnt from the first block), in an order of their own on every line and
 with every name and digest escaped (as only hostile files are: the pattern of any order
-reads them), and with the most lab switches a replay may hold, one a line from the start;
-and four hostile ones: a header holding 64 MB of empty objects, of fractions or of
-fields, and 64 MB of lab switches. Each round reads each in a fresh process, taking
-turns; printed: the seconds `load` took and the process's peak memory, medians over the
-rounds with their spread, against the goal of 2 s and 100 MB.
+reads them), with its counts written twice on every line (the JSON parser reads it), and
+with the most lab switches a replay may hold, one a line from the start; and four hostile
+ones: a header holding 64 MB of empty objects, of fractions or of fields, and 64 MB of lab
+switches. Each round reads each in a fresh process, taking turns; printed: the seconds
+`load` took and the process's peak memory, medians over the rounds with their spread,
+against the goal of 2 s and 100 MB.
 """
 
 from __future__ import annotations
@@ -87,6 +88,15 @@ def escaped(line: str) -> str:
 
 
 _WORD = re.compile(r'(?<=")\w+(?=")')
+
+
+def counts_twice(line: str) -> str:
+    """The line with its counts written twice, the same each time (JSON keeps the last:
+    the same line, as only a hostile file would spell it)."""
+    return _COUNTS.sub(r"\1,\1", line, count=1)
+
+
+_COUNTS = re.compile(r'("counts":\{[^}]*\})')
 
 
 def order_each_line(seed: int = 0) -> Callable[[Any], Any]:
@@ -220,6 +230,8 @@ def reading_bench(rounds: int, size: int = MAX_FILE_BYTES) -> tuple[list[str], b
         varied, spelt = folder / "varied.json", folder / "escaped.json"
         varied_ticks = rewritten(longest, varied, size, order_each_line(), **compact)
         spelt_ticks = rewritten(longest, spelt, size, spelling=escaped, **compact)
+        twice = folder / "twice.json"
+        twice_ticks = rewritten(longest, twice, size, spelling=counts_twice, **compact)
         files = {f"the longest valid replay ({ticks:,} ticks)": longest,
                  f"the same spaced as json.dumps ({spaced_ticks:,})": spaced,
                  f"the same, a lab switch every 500 lines ({switched_ticks:,})": switched,
@@ -227,6 +239,7 @@ def reading_bench(rounds: int, size: int = MAX_FILE_BYTES) -> tuple[list[str], b
                  f"the same, fields in reverse order ({reordered_ticks:,})": reordered,
                  f"the same, an order of fields a line ({varied_ticks:,})": varied,
                  f"the same, every name and digest escaped ({spelt_ticks:,})": spelt,
+                 f"the same, its counts written twice a line ({twice_ticks:,})": twice,
                  f"the same, {MAX_SWITCHES:,} lab switches first ({most_ticks:,})": most,
                  **hostile_headers(folder, longest.open().readline().rstrip("\n"), size),
                  f"{size / 2**20:.4g} MB of lab switches": flood}
