@@ -239,7 +239,7 @@ def reading_bench(rounds: int, size: int = MAX_FILE_BYTES) -> tuple[list[str], b
                  f"the same, fields in reverse order ({reordered_ticks:,})": reordered,
                  f"the same, an order of fields a line ({varied_ticks:,})": varied,
                  f"the same, every name and digest escaped ({spelt_ticks:,})": spelt,
-                 f"the same, its counts written twice a line ({twice_ticks:,})": twice,
+                 f"the same, its counts twice a line ({twice_ticks:,})": twice,
                  f"the same, {MAX_SWITCHES:,} lab switches first ({most_ticks:,})": most,
                  **hostile_headers(folder, longest.open().readline().rstrip("\n"), size),
                  f"{size / 2**20:.4g} MB of lab switches": flood}
