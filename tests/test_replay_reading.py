@@ -137,7 +137,7 @@ def test_lines_only_a_hostile_file_writes_are_read_by_the_regular_expressions(
     header, *lines = written.read_text().splitlines()
     path.write_text(header + "\n" + "".join(HOSTILE[shape](json.loads(line)) + "\n"
                                             for line in lines))
-    assert "\\u" in path.read_text() or shape != "every name and digest escaped"
+    assert path.read_text() != written.read_text()
     with mock.patch.object(json_block, "read_block", side_effect=AssertionError("JSON")):
         assert _without_single_lines(path) == load(written) == _by_json_alone(path)
 
