@@ -8,6 +8,7 @@ import contextlib
 import itertools
 import json
 import re
+from collections.abc import Callable
 from pathlib import Path
 from unittest import mock
 
@@ -102,16 +103,21 @@ SHAPES = {  # how other tools may write the same lines again
 }
 
 
+def _spelt(written: Path, path: Path, spelling: Callable[[dict], str]) -> Path:
+    """`path`: `written`'s checkpoint lines as `spelling` writes each (the text changed)."""
+    header, *lines = written.read_text().splitlines()
+    path.write_text(header + "\n" + "".join(spelling(json.loads(line)) + "\n"
+                                            for line in lines))
+    assert path.read_text() != written.read_text()
+    return path
+
+
 @pytest.mark.parametrize("shape", sorted(SHAPES))
 def test_lines_in_any_shape_json_allows_are_read_a_block_at_a_time(written, tmp_path, shape):
     """Fields in another order, wide white space, escapes in names, an object twice: the
     JSON block reader takes whole blocks of them (no line is read on its own), the replay
     the same."""
-    path = tmp_path / "other.json"
-    header, *lines = written.read_text().splitlines()
-    path.write_text(header + "\n" + "".join(SHAPES[shape](json.loads(line)) + "\n"
-                                            for line in lines))
-    assert path.read_text() != written.read_text()
+    path = _spelt(written, tmp_path / "other.json", SHAPES[shape])
     with mock.patch.object(canonical, "read_block", return_value=None):
         replay = _without_single_lines(path)
     assert replay == load(written) == _by_json_alone(path)
@@ -133,11 +139,7 @@ def test_lines_only_a_hostile_file_writes_are_read_by_the_regular_expressions(
     """What JSON lets a file spell many ways (any order of fields on each line, escapes,
     -0, a field written again): the pattern of any order reads them, no line through the
     JSON parser."""
-    path = tmp_path / "hostile.json"
-    header, *lines = written.read_text().splitlines()
-    path.write_text(header + "\n" + "".join(HOSTILE[shape](json.loads(line)) + "\n"
-                                            for line in lines))
-    assert path.read_text() != written.read_text()
+    path = _spelt(written, tmp_path / "hostile.json", HOSTILE[shape])
     with mock.patch.object(json_block, "read_block", side_effect=AssertionError("JSON")):
         assert _without_single_lines(path) == load(written) == _by_json_alone(path)
 
