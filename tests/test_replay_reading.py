@@ -159,6 +159,10 @@ EDITS = {  # one line changed: what the regular expressions must not read otherw
     "a 19-digit number": (r'"score":\d+', f'"score":{2**63 - 1}', "read"),
     "one too big": (r'"score":\d+', f'"score":{2**63}', "refused"),
     "a minus": (r'"wave":(\d+)', r'"wave":-\1', "refused"),
+    "a minus in a digest": (r'(?<=[0-9a-f])0(?=[0-9a-f]*")', "-0", "refused"),
+    "too long a number, then the field again": (r'"score":', f'"score":{10**21},"score":',
+                                                 "refused"),
+    "a fraction, then the field again": (r'"score":', '"score":0.5,"score":', "refused"),
 }
 
 
@@ -274,6 +278,21 @@ def test_a_run_of_lines_with_lab_switches_is_read_as_a_block(tmp_path):
     assert alone.call_count <= 2 and by_json.call_count <= 4  # (a block's edge may cut one)
 
 
+def test_a_run_of_lines_too_full_of_lab_switches_is_refused_as_json_alone_refuses_it(
+        tmp_path):
+    """Two lines in a row each with 300 switches to empty choices (each valid): more
+    objects than a line of that length may hold, so the line-by-line reader refuses the
+    first before parsing it, and the JSON block reader must not take the run."""
+    objects = _long_objects(tmp_path)
+    for index in (100, 101):
+        objects[index]["lab"] = [[objects[index - 1]["checkpoint"]["tick"], {}]] * 300
+    path = tmp_path / "full.json"
+    path.write_text("".join(json.dumps(o, separators=(",", ":")) + "\n" for o in objects))
+    refused = _outcome(path)
+    assert refused == _by_json_alone(path) == "refused: line 101 holds more objects than a " \
+        "replay can"
+
+
 def test_a_bad_line_costs_only_itself_the_block_reader(tmp_path):
     """One bad line among 430 (its lab switch after its span): its block is read again by
     halves, so a few dozen blocks take the lines before it, not each alone, and the line
@@ -357,10 +376,10 @@ def compact_mutants(draw, path: Path) -> str:
         parent[key] = {name: parent[key][name] for name in names}
     text = [json.dumps(o, separators=(",", ":")) + "\n" for o in objects]
     line = text[index]
-    if how == "char":
+    if how == "char":  # put in place of one, or before it
         at = draw(st.integers(0, len(line) - 2))
         text[index] = line[:at] + draw(st.sampled_from('0123456789abcdefAF",:[]{} -\\')) + line[
-            at + 1:]
+            at + draw(st.integers(0, 1)):]
     elif how == "escape":  # (its code's hex digits in capitals or not)
         at = draw(st.integers(0, len(line) - 2))
         escape = draw(st.sampled_from(["\\u%04x", "\\u%04X"])) % ord(line[at])
@@ -372,7 +391,8 @@ def compact_mutants(draw, path: Path) -> str:
     elif how == "twice":  # a field written again before any field (JSON: the last counts)
         name = draw(st.sampled_from(sorted(set(re.findall(r'"(\w+)":', line)))))
         at = draw(st.sampled_from([found.start() for found in re.finditer(r'"\w+":', line)]))
-        value = draw(st.sampled_from(["7", '{"cannon":0}', '"0"', "[]"]))
+        value = draw(st.sampled_from(["7", '{"cannon":0}', '"0"', "[]", "0.5", "NaN",
+                                      str(10**21), str(2**63)]))
         text[index] = line[:at] + f'"{name}":{value},' + line[at:]
     elif how == "rename":  # a field named as another (of its object: one twice, one missing)
         name = draw(st.sampled_from(re.findall(r'"(\w+)":', line)))

@@ -142,8 +142,9 @@ def order_of(line: bytes) -> Order | None:
 class Plain(NamedTuple):
     """A block with what JSON lets a valid line spell two ways spelt one way: each escape
     of a letter as the letter, of a digit as a byte from 0x80 (which _HEX takes, and no
-    number: in a number an escape is no JSON), and -0 as 0 (a minus sign is in no valid
-    line's string)."""
+    number: in a number an escape is no JSON), and -0 as 0 where a number starts (after a
+    colon, a bracket, a comma or white space: in a string, that character is left, so the
+    string is still no name or digest)."""
     text: bytes
     escaped: bool  # (the digests' escaped digits are turned back by `digits`)
 
@@ -153,7 +154,7 @@ class Plain(NamedTuple):
         or has a backslash that is not such an escape (an escaped backslash, too)."""
         if not block.isascii():
             return None
-        text = block.replace(b"-0", b"0") if b"-" in block else block
+        text = _MINUS_ZERO.sub(b"0", block) if b"-" in block else block
         if b"\\" not in text:
             return cls(text, False)
         if _OTHER_BACKSLASH.search(text):
@@ -170,6 +171,7 @@ class Plain(NamedTuple):
         return tuple(b",".join(digests).translate(_DIGITS_BACK).split(b","))
 
 
+_MINUS_ZERO = re.compile(rb"(?<=[:\[,\s])-0")
 # A backslash that does not start the escape of a digit or a letter.
 _OTHER_BACKSLASH = re.compile(rb"\\(?!u00(?:3[0-9]|6[1-9a-fA-F]|7[0-9aA]))")
 _DIGITS_BACK = bytes.maketrans(bytes(range(0x80, 0x8a)), b"0123456789")

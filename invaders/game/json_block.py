@@ -24,10 +24,10 @@ from typing import Any
 
 from invaders.game.canonical import Block, hashed
 from invaders.game.checkpoint import COUNT_NAMES, VALUES_TEXT
+from invaders.game.replay_checks import decode, no_constant, no_fraction, overfull
 from invaders.game.replay_format import CHECKPOINT_FIELDS, LINE_FIELDS
 from invaders.game.statehash import GROUPS
 
-_PARSER = json.JSONDecoder()  # (no hooks: every value is checked below, and none is float)
 _HASHES = re.compile(r"(?:[0-9a-f]{32},)*[0-9a-f]{32}")  # joined by commas
 _GROUP_DIGESTS = re.compile(r"(?:[0-9a-f]{16},)*[0-9a-f]{16}")
 
@@ -43,7 +43,7 @@ def read_block(block: bytes) -> Block | None:
     caller to check as it checks a line's."""
     try:  # (the lines that hold something, as the line-by-line reader has them)
         texts = [line.decode() for line in block.split(b"\n") if line.strip()]
-        lines = [*map(_PARSER.decode, texts)]
+        lines = _parsed(block, texts)
         switches = [(index, line.pop("lab")) for index, line in enumerate(lines)
                     if type(line) is dict and "lab" in line]
         inputs, checkpoints = _fields(lines, LINE_FIELDS)
@@ -51,6 +51,36 @@ def read_block(block: bytes) -> Block | None:
                      switches)
     except (_NotTaken, UnicodeDecodeError, ValueError, RecursionError):
         return None  # (a ValueError: the JSON parser's)
+
+
+def _parsed(block: bytes, texts: list[str]) -> list[Any]:
+    """The lines as the line-by-line reader parses them (replay_checks.decode); by the JSON
+    parser alone, a fraction or a constant refused, where that gives the same: where no
+    field is written twice (JSON keeps the last value, where that reader refuses a
+    fraction or too long a number in the first too) and a line with lab switches is not
+    overfull."""
+    lines = [*map(_PARSER.decode, texts)]
+    if block.count(b":") == _FIELDS * len(texts):
+        return lines  # (every field once; or one missing, and refused below)
+    return [line if _as_parsed(text, line) else decode(text, "")
+            for text, line in zip(texts, lines, strict=True)]
+
+
+_PARSER = json.JSONDecoder(parse_float=no_fraction, parse_constant=no_constant)
+_FIELDS = len(LINE_FIELDS) + len(CHECKPOINT_FIELDS) + len(COUNT_NAMES) + len(GROUPS)
+
+
+def _as_parsed(text: str, line: Any) -> bool:
+    """Whether the JSON parser gave the line as the line-by-line reader would: a colon for
+    every field of it (none dropped: a colon in a word, too, sends it to that reader),
+    and the line not overfull."""
+    try:
+        checkpoint = line["checkpoint"]
+        kept = (len(line) + len(checkpoint) + len(checkpoint["counts"])
+                + len(checkpoint["groups"]) + sum(len(choice) for _, choice in line.get("lab", ())))
+    except (TypeError, KeyError, ValueError, AttributeError):
+        return False
+    return text.count(":") == kept and overfull(text) is None
 
 
 def _fields(objects: list[Any], names: tuple[str, ...]) -> list[tuple[Any, ...]]:

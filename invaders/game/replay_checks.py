@@ -238,24 +238,32 @@ def _bounded_int(text: str) -> int:
     return int(text)
 
 
-def _no_fraction(text: str) -> float:
+def no_fraction(text: str) -> float:
     raise ReplayError(f"a fraction ({shown(text)}): every number in a replay is whole")
 
 
-def _no_constant(text: str) -> float:
+def no_constant(text: str) -> float:
     raise ReplayError(f"{text} is not a number a replay holds")
 
 
+def overfull(text: str) -> str | None:
+    """What the text holds more of than a replay of its length can, if anything (a replay
+    spends about 100 characters an object and 20 a field)."""
+    if text.count("[") > MAX_RUNS + 64:
+        return "lists"
+    if text.count("{") > len(text) // 32 + 64:
+        return "objects"
+    return "fields" if text.count(":") > len(text) // 8 + 256 else None
+
+
 def decode(text: str, where: str) -> Any:
-    """JSON, refused before parsing when it holds more lists, objects or fields than a
-    replay of its length can (a replay spends about 100 characters an object and 20 a
-    field), and at the first fraction, NaN or Infinity."""
-    need(text.count("[") <= MAX_RUNS + 64, f"{where} holds more lists than a replay can")
-    need(text.count("{") <= len(text) // 32 + 64, f"{where} holds more objects than a replay can")
-    need(text.count(":") <= len(text) // 8 + 256, f"{where} holds more fields than a replay can")
+    """JSON, refused before parsing when it is overfull, and at the first fraction, NaN or
+    Infinity, or number too long."""
+    if (what := overfull(text)) is not None:
+        raise ReplayError(f"{where} holds more {what} than a replay can")
     try:
-        return json.loads(text, parse_int=_bounded_int, parse_float=_no_fraction,
-                          parse_constant=_no_constant)
+        return json.loads(text, parse_int=_bounded_int, parse_float=no_fraction,
+                          parse_constant=no_constant)
     except ReplayError as err:  # (from a number the hooks refused)
         raise ReplayError(f"{where}: {err}") from None
     except json.JSONDecodeError as err:
