@@ -163,6 +163,7 @@ EDITS = {  # one line changed: what the regular expressions must not read otherw
     "too long a number, then the field again": (r'"score":', f'"score":{10**21},"score":',
                                                  "refused"),
     "a fraction, then the field again": (r'"score":', '"score":0.5,"score":', "refused"),
+    "NaN, then the field again": (r'"score":', '"score":NaN,"score":', "refused"),
 }
 
 

@@ -24,8 +24,8 @@ from typing import Any
 
 from invaders.game.canonical import Block, hashed
 from invaders.game.checkpoint import COUNT_NAMES, VALUES_TEXT
-from invaders.game.replay_checks import decode, no_constant, no_fraction, overfull
-from invaders.game.replay_format import CHECKPOINT_FIELDS, LINE_FIELDS
+from invaders.game.replay_checks import no_constant, no_fraction, overfull
+from invaders.game.replay_format import CHECKPOINT_FIELDS, LINE_FIELDS, MAX_DIGITS
 from invaders.game.statehash import GROUPS
 
 _HASHES = re.compile(r"(?:[0-9a-f]{32},)*[0-9a-f]{32}")  # joined by commas
@@ -54,33 +54,22 @@ def read_block(block: bytes) -> Block | None:
 
 
 def _parsed(block: bytes, texts: list[str]) -> list[Any]:
-    """The lines as the line-by-line reader parses them (replay_checks.decode); by the JSON
-    parser alone, a fraction or a constant refused, where that gives the same: where no
-    field is written twice (JSON keeps the last value, where that reader refuses a
-    fraction or too long a number in the first too) and a line with lab switches is not
-    overfull."""
-    lines = [*map(_PARSER.decode, texts)]
-    if block.count(b":") == _FIELDS * len(texts):
-        return lines  # (every field once; or one missing, and refused below)
-    return [line if _as_parsed(text, line) else decode(text, "")
-            for text, line in zip(texts, lines, strict=True)]
+    """The lines as the line-by-line reader parses them (replay_checks.decode: a line not
+    overfull, no fraction, constant or number of over MAX_DIGITS digits anywhere, even in a
+    value JSON drops for a field written again), by the JSON parser alone: it refuses the
+    fractions and constants itself; a block with a longer run of digits anywhere, or with
+    an overfull line, is not taken (neither can be where the lines hold no more fields
+    than checkpoints' lines: every value they hold is checked below)."""
+    if block.count(b":") != _FIELDS * len(texts) and (
+            _TOO_LONG in block.translate(_DIGITS_AS_0) or any(map(overfull, texts))):
+        raise _NotTaken
+    return [*map(_PARSER.decode, texts)]
 
 
 _PARSER = json.JSONDecoder(parse_float=no_fraction, parse_constant=no_constant)
 _FIELDS = len(LINE_FIELDS) + len(CHECKPOINT_FIELDS) + len(COUNT_NAMES) + len(GROUPS)
-
-
-def _as_parsed(text: str, line: Any) -> bool:
-    """Whether the JSON parser gave the line as the line-by-line reader would: a colon for
-    every field of it (none dropped: a colon in a word, too, sends it to that reader),
-    and the line not overfull."""
-    try:
-        checkpoint = line["checkpoint"]
-        kept = (len(line) + len(checkpoint) + len(checkpoint["counts"])
-                + len(checkpoint["groups"]) + sum(len(choice) for _, choice in line.get("lab", ())))
-    except (TypeError, KeyError, ValueError, AttributeError):
-        return False
-    return text.count(":") == kept and overfull(text) is None
+_DIGITS_AS_0 = bytes.maketrans(b"123456789", b"000000000")
+_TOO_LONG = b"0" * (MAX_DIGITS + 1)
 
 
 def _fields(objects: list[Any], names: tuple[str, ...]) -> list[tuple[Any, ...]]:
