@@ -130,7 +130,26 @@ HOSTILE = {  # valid lines as only a hostile file would write them (no tool does
     "every zero as -0": lambda o: re.sub(r"\b(?<![1-9])0\b", "-0", json.dumps(o)),
     "a field twice on every line": lambda o: json.dumps(o).replace(
         '"wave":', '"wave": 7, "wave":'),  # (JSON keeps the last)
+    "an object twice on every line": lambda o: counts_twice(json.dumps(o)),
+    "every object twice, the first a part": lambda o: _twice_first_a_part(o),
 }
+
+
+def _twice_first_a_part(line: dict) -> str:
+    """The line with its checkpoint and each object in it written first with one of its
+    fields only, then whole (JSON keeps the whole one, the last)."""
+    text = json.dumps(line)
+    for name, field in (("checkpoint", '"wave": 0'), ("counts", '"shot": 0'),
+                        ("groups", f'"game": "{"0" * 16}"')):
+        text = text.replace(f'"{name}": {{', f'"{name}": {{{field}}}, "{name}": {{')
+    return text
+
+
+def _checkpoint_twice(line: re.Match[str], dropped: str) -> str:
+    """The checkpoint written twice (JSON keeps the last), the last without `dropped`."""
+    checkpoint = line[1]
+    last = re.sub(rf'"{dropped}":(\{{[^}}]*\}}|[^,{{}}]*),', "", checkpoint, count=1)
+    return f'"checkpoint":{checkpoint},"checkpoint":{last}}}'
 
 
 @pytest.mark.parametrize("shape", sorted(HOSTILE))
@@ -151,6 +170,18 @@ EDITS = {  # one line changed: what the regular expressions must not read otherw
     "an object twice, the last whole": (r'("counts":\{[^}]*\})', r'\1,\1', "read"),
     "an object twice, the last a part": (r'"groups":', r'"counts":{"cannon":0},"groups":',
                                          "refused"),
+    "an object twice, the first a part": (r'"counts":', r'"counts":{"cannon":0},"counts":',
+                                          "read"),
+    "an object twice, a field of the last twice, one missing": (
+        r'("counts":\{[^}]*\})', r'\1,"counts":{"shot":0,"shot":0,"bomb":0,"alien":55,'
+        r'"bunker":4,"saucer":0}', "refused"),
+    "the checkpoint twice, the last whole": (
+        r'"checkpoint":(\{.*\})\}', lambda line: _checkpoint_twice(line, "none"), "read"),
+    "the checkpoint twice, the last without its counts": (
+        r'"checkpoint":(\{.*\})\}', lambda line: _checkpoint_twice(line, "counts"),
+        "refused"),
+    "the checkpoint twice, the last without its tick": (
+        r'"checkpoint":(\{.*\})\}', lambda line: _checkpoint_twice(line, "tick"), "refused"),
     "an escape in a number": (r'"ships":(\d)', r'"ships":\\u003\1', "refused"),
     "an escaped backslash": (r'"hash":"[0-9a-f]', r'"hash":"\\\\u0030', "refused"),
     "an escape of no letter": (r'(?<=[0-9a-f])0(?=[0-9a-f]*")', r'\\u0080', "refused"),
@@ -334,9 +365,10 @@ def compact_mutants(draw, path: Path) -> str:
     in a checkpoint's line or in an input run (numbers at every edge, a fraction or a truth
     value equal to the number there, a digest a digit short or long), one character, a run
     split in two (the same inputs, unless a part is empty), a line's fields reordered, an
-    object's fields shuffled, a field written twice or named as another, a character
-    written as JSON's escape of it (in a string or not), a zero as -0, a blank line, white
-    space put between a line's tokens, or a lab switch."""
+    object's fields shuffled, a field written twice (an object, whole or short of a field,
+    too) or named as another, a character written as JSON's escape of it (in a string or
+    not), a zero as -0, a blank line, white space put between a line's tokens, or a lab
+    switch."""
     objects = [json.loads(line) for line in path.read_text().splitlines()]
     index = draw(st.integers(2, len(objects) - 1))  # (line 2 has no input runs)
     how = draw(st.sampled_from(["value", "run", "char", "split", "reorder", "shuffle",
@@ -393,7 +425,8 @@ def compact_mutants(draw, path: Path) -> str:
         name = draw(st.sampled_from(sorted(set(re.findall(r'"(\w+)":', line)))))
         at = draw(st.sampled_from([found.start() for found in re.finditer(r'"\w+":', line)]))
         value = draw(st.sampled_from(["7", '{"cannon":0}', '"0"', "[]", "0.5", "NaN",
-                                      str(10**21), str(2**63)]))
+                                      str(10**21), str(2**63), *_objects_named(
+                                          objects[index], name, draw(st.integers(0, 8)))]))
         text[index] = line[:at] + f'"{name}":{value},' + line[at:]
     elif how == "rename":  # a field named as another (of its object: one twice, one missing)
         name = draw(st.sampled_from(re.findall(r'"(\w+)":', line)))
@@ -406,6 +439,16 @@ def compact_mutants(draw, path: Path) -> str:
         text[index] = draw(gap) + json.dumps(objects[index], separators=(
             draw(gap) + "," + draw(gap), draw(gap) + ":" + draw(gap))) + draw(gap) + "\n"
     return "".join(text)
+
+
+def _objects_named(line: dict, name: str, dropped: int) -> list[str]:
+    """The line's objects of that name (its checkpoint, counts or groups), as they are and
+    without their field number `dropped` (if they have one)."""
+    found = [line[name]] if name in line else [line["checkpoint"][name]] if name in (
+        "counts", "groups") else []
+    return [json.dumps(part, separators=(",", ":")) for value in found if type(value) is dict
+            for part in (value, {key: item for number, (key, item) in
+                                 enumerate(value.items()) if number != dropped})]
 
 
 @settings(suppress_health_check=[HealthCheck.function_scoped_fixture])

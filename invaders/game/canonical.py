@@ -10,9 +10,10 @@ them write them) or in an order learnt from the file (Orders), with white space 
 tokens or not, are read by a pattern of their order; lines whose fields are in any order (a
 hostile file may change it every line), by one pattern that takes each object's fields in
 any order, about two thirds as fast. JSON's escapes of the letters and digits that names
-and digests hold, and -0, are read as what they stand for (Plain). A field written twice is
-read as JSON reads it (the last kept). A block of which any line has another shape (a lab
-switch, an object written twice) is left to the JSON block reader (json_block.py).
+and digests hold, and -0, are read as what they stand for (Plain). A field or an object
+written twice is read as JSON reads it (the last kept). A block of which any line has
+another shape (a lab switch, a field missing) is left to the JSON block reader
+(json_block.py).
 
 A line that matches is, as JSON, an object of exactly these fields, its numbers whole (and
 of at most 19 digits: read_block bounds them), its digests lower-case hex.
@@ -66,16 +67,18 @@ SORTED: Order = tuple(tuple(sorted(names)) for names in OWN)  # type: ignore[ass
 ANY = None  # (in place of an order: each object's fields in any order)
 
 
-def _object(fields: dict[str, bytes], names: tuple[str, ...] | None) -> bytes:
+def _object(fields: dict[str, bytes], names: tuple[str, ...] | None, at: str = "") -> bytes:
     """A JSON object's pattern from its fields' patterns, in the order `names` gives (None:
     in any order), `~` where JSON allows white space."""
     pairs = [b'"%s"~:~%s' % (name.encode(), fields[name]) for name in names or fields]
     if names is not None:
         return rb"\{~%s~\}" % b"~,~".join(pairs)
     # Fields, each any of them, each followed by a comma (but not before the brace) or the
-    # brace. A field written again: its group keeps the last, as JSON does; see _columns
-    # for an object written again, or a field missing. (Possessive, as the gap.)
-    return rb"\{(?:~(?:%s)~(?:,(?!~\})|(?=\})))+%s\}" % (b"|".join(pairs), _POSSESSIVE)
+    # brace. A field written again: its group keeps the last, as JSON does. The empty
+    # group `at` marks where the object starts (its last start, if it is written again;
+    # see _whole_objects). (Possessive, as the gap.)
+    return rb"%s\{(?:~(?:%s)~(?:,(?!~\})|(?=\})))+%s\}" % (
+        _value(at, b"") if at else b"", b"|".join(pairs), _POSSESSIVE)
 
 
 def _shape(order: Order | None) -> bytes:
@@ -87,20 +90,34 @@ def _shape(order: Order | None) -> bytes:
     checkpoint_fields = {
         "tick": _value("tick", _NUMBER), "hash": b'"%s"' % _value("hash", _HEX + b"{32}"),
         **{name: _value(name, _NUMBER) for name in ("score", "ships", "wave")},
-        "counts": _object(count_fields, counts), "groups": _object(group_fields, groups)}
+        "counts": _object(count_fields, counts, "counts_at"),
+        "groups": _object(group_fields, groups, "groups_at")}
     line_fields = {
         "inputs": _value("inputs", rb"\[~%s~\]" % _value("runs", rb"(?:%s(?:~,~%s)*)?" % (
             _RUN, _RUN))),  # (the runs, maybe none; the inputs never empty, if there)
-        "checkpoint": _object(checkpoint_fields, checkpoint)}
+        "checkpoint": _object(checkpoint_fields, checkpoint, "checkpoint_at")}
     return rb"^~%s~$" % _object(line_fields, line)
 
 
+# In ANY's pattern, each object a line may write again: its name, the mark of where it
+# starts and its fields' groups.
+NESTED = (("checkpoint", "checkpoint_at",
+           ("tick", "hash", "score", "ships", "wave", "counts_at", "groups_at")),
+          ("counts", "counts_at", tuple(f"count_{name}" for name in COUNT_NAMES)),
+          ("groups", "groups_at", tuple(f"group_{name}" for name in GROUPS)))
+Nesting = tuple[tuple[bytes, int, tuple[int, ...]], ...]  # (the name as a JSON string)
+
+
 @functools.lru_cache(maxsize=64)  # (kept for the files read after: a few milliseconds each)
-def _compiled(order: Order | None, gap: bytes) -> tuple[re.Pattern[bytes], list[int]]:
-    """A shape's pattern (`gap` where JSON allows white space), and where each of COLUMNS
-    is in its matches' groups."""
+def _compiled(order: Order | None, gap: bytes
+              ) -> tuple[re.Pattern[bytes], list[int], Nesting]:
+    """A shape's pattern (`gap` where JSON allows white space), where each of COLUMNS is in
+    its matches' groups, and (for ANY) NESTED as group numbers."""
     pattern = re.compile(_shape(order).replace(b"~", gap), re.MULTILINE)
-    return pattern, [pattern.groupindex[column] - 1 for column in COLUMNS]
+    number = pattern.groupindex.__getitem__
+    nesting = tuple((b'"%s"' % name.encode(), number(at), tuple(map(number, fields)))
+                    for name, at, fields in NESTED) if order is ANY else ()
+    return pattern, [number(column) - 1 for column in COLUMNS], nesting
 
 
 class Orders:
@@ -232,17 +249,17 @@ def _columns(block: bytes, orders: Orders
     """The order that read the lines, and their values, a column each in COLUMNS' order,
     when all have one of the shapes (the shapes with white space tried only on a block that
     holds some: on a block of lines of the program's shape but one, each would read all but
-    that one again). ANY only takes lines of four objects, each once: four braces a line,
-    as no value holds one (an object written twice is left to the JSON block reader: ANY's
-    groups might hold the earlier one's values)."""
+    that one again). Where ANY reads lines of more than four objects (braces: no value
+    holds one), some object is written again: see _whole_objects."""
     lines, spaced = block.count(b"\n"), any(map(block.__contains__, (b" ", b"\t", b"\r")))
     for order, gap in ((order, gap) for order in orders for gap in (b"", _GAP)):
         if gap and not spaced:
             continue
+        pattern, taken, nesting = _compiled(order, gap)
         if order is ANY and block.count(b"{") != _OBJECTS * lines:
-            return None
-        pattern, taken = _compiled(order, gap)
-        rows = pattern.findall(block) if pattern.match(block) else []  # (a match: a line)
+            rows = _whole_objects(pattern, nesting, block, lines)
+        else:
+            rows = pattern.findall(block) if pattern.match(block) else []  # (a match: a line)
         if rows and len(rows) == lines:
             matched = [*zip(*rows, strict=True)]
             columns = [matched[index] for index in taken]
@@ -254,6 +271,23 @@ def _columns(block: bytes, orders: Orders
 
 
 _OBJECTS = 4  # (the line, its checkpoint, the counts and the groups)
+
+
+def _whole_objects(pattern: re.Pattern[bytes], nesting: Nesting, block: bytes,
+                   lines: int) -> list[tuple[bytes, ...]]:
+    """The lines' matches' groups, as `findall` gives them, when the last of each object
+    written again holds every field: JSON keeps only the last, and a group keeps its last
+    value, so each field's must lie after the object's last start (a field the last object
+    lacks keeps an earlier one's value, or none: -1); else none. Only the objects whose
+    names the block holds more than once a line are looked at (no value holds a name: each
+    is a key; and each line that matches with every value in place has each once at
+    least, which the caller checks)."""
+    matches = [*pattern.finditer(block)] if pattern.match(block) else []
+    for _, at, fields in (nested for nested in nesting if block.count(nested[0]) != lines):
+        for match in matches:
+            if min(map(match.start, fields)) < match.start(at):
+                return []
+    return [match.groups(b"") for match in matches]
 
 
 def hashed(hashes: Sequence[bytes], groups: Sequence[Sequence[bytes]]) -> list[bytes] | None:

@@ -1,9 +1,10 @@
 """Checkpoint lines in any shape JSON allows, read a block at a time.
 
 The regular expressions (canonical.py) read checkpoint lines in any order of fields, with
-any white space, with JSON's escapes of letters and digits. What they leave: lines with lab
-switches (a run of them is cut out of its block for this reader), an object written twice
-(JSON keeps the last), any other escape. A block of such lines is parsed a line at a time
+any white space, with JSON's escapes of letters and digits, fields and objects written
+twice. What they leave: lines with lab switches (a run of them is cut out of its block for
+this reader), an earlier object written twice that is not one of a checkpoint line's own,
+any other escape. A block of such lines is parsed a line at a time
 by the JSON parser alone, then checked and taken a column at a time, each step a single
 call over the block's lines (map, itemgetter, join, a regular expression), as canonical.py
 takes its columns. Nothing is taken here that reading the lines one by one
