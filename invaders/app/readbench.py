@@ -8,9 +8,9 @@ order (an order learnt from the first block), in an order of their own on every 
 with every name and digest escaped, with its counts written twice on every line (as only
 hostile files are: the pattern of any order reads them), and with the most lab switches a
 replay may hold, one a line from the start; and four hostile ones: a header holding 64 MB
-of empty objects, of fractions or of fields, and 64 MB of lab switches. Each round reads each in a fresh process, taking turns; printed: the seconds
-`load` took and the process's peak memory, medians over the rounds with their spread,
-against the goal of 2 s and 100 MB.
+of empty objects, of fractions or of fields, and 64 MB of lab switches. Each round reads
+each in a fresh process, taking turns; printed: the seconds `load` took and the process's
+peak memory, medians over the rounds with their spread, against the goal of 2 s and 100 MB.
 """
 
 from __future__ import annotations
