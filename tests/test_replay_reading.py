@@ -145,10 +145,12 @@ def _twice_first_a_part(line: dict) -> str:
     return text
 
 
-def _checkpoint_twice(line: re.Match[str], dropped: str) -> str:
-    """The checkpoint written twice (JSON keeps the last), the last without `dropped`."""
-    checkpoint = line[1]
-    last = re.sub(rf'"{dropped}":(\{{[^}}]*\}}|[^,{{}}]*),', "", checkpoint, count=1)
+def _checkpoint_twice(line: re.Match[str], dropped: str | None = None) -> str:
+    """The checkpoint written twice (JSON keeps the last), the last without the field
+    `dropped` (one followed by a comma) if one is named."""
+    checkpoint = last = line[1]
+    if dropped is not None:
+        last = re.sub(rf'"{dropped}":(\{{[^}}]*\}}|[^,{{}}]*),', "", checkpoint, count=1)
     return f'"checkpoint":{checkpoint},"checkpoint":{last}}}'
 
 
@@ -176,7 +178,7 @@ EDITS = {  # one line changed: what the regular expressions must not read otherw
         r'("counts":\{[^}]*\})', r'\1,"counts":{"shot":0,"shot":0,"bomb":0,"alien":55,'
         r'"bunker":4,"saucer":0}', "refused"),
     "the checkpoint twice, the last whole": (
-        r'"checkpoint":(\{.*\})\}', lambda line: _checkpoint_twice(line, "none"), "read"),
+        r'"checkpoint":(\{.*\})\}', _checkpoint_twice, "read"),
     "the checkpoint twice, the last without its counts": (
         r'"checkpoint":(\{.*\})\}', lambda line: _checkpoint_twice(line, "counts"),
         "refused"),
