@@ -4,10 +4,9 @@ vectorization_mode="vector_entry_point")`, in this process, or with `workers=W` 
 cores (a share of the games stepped here, each other share on a worker process, the
 arrays in shared memory: workers.py). Autoreset as Gymnasium 1.x's default (`NEXT_STEP`):
 the step after an episode ends resets that game (reward 0, its first observation), the
-others step on. Each game is a `SpaceInvadersEnv`,
-so each gives what it would alone; the batch saves the per-game copies, infos and wrappers
-of a generic vector environment (and, on workers, the pickled infos of Gymnasium's async
-one).
+others step on. Each game is a `SpaceInvadersEnv`, so each gives what it would alone; the
+batch saves the per-game copies, infos and wrappers of a generic vector environment (and,
+on workers, the pickled infos of Gymnasium's async one).
 """
 
 from __future__ import annotations
