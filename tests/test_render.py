@@ -245,3 +245,16 @@ def test_a_screenshot_of_the_attract_cycle_is_its_still_pixel_for_pixel_and_says
     Renderer(1).draw_card(expected, World(seed=0), texts, pictures)
     image = pygame.image.load(str(path))
     assert pygame.image.tobytes(image, "RGB") == pygame.image.tobytes(expected, "RGB")
+
+
+def test_each_live_alien_is_drawn_in_its_own_frames_picture_pixel_for_pixel():
+    world = active_world(seed=3)
+    while len({alien.frame for alien in world.rack.live_aliens()}) < 2:  # (mid-march)
+        world.step(0)
+    flat = pygame.Surface((224, 256))
+    Renderer(1).draw(flat, world)
+    for alien in world.rack.live_aliens():
+        picture = art.ALIEN_BY_ROW[alien.row][alien.frame]
+        for y, row in enumerate(picture):
+            for x, ch in enumerate(row):
+                assert _lit(flat, alien.x + x, alien.top + y) == (ch == "#"), (alien.index, x, y)
