@@ -135,9 +135,11 @@ class Picture:
         for bunker in world.bunkers:
             bunker.mask.to_surface(self.screen, setcolor=WHITE, unsetcolor=None,
                                    dest=(bunker.x, bunker.y))
-        aliens = self._aliens  # the rack in one call: 55 blits (`top` read as y + FOOTPRINT_ABOVE)
-        self.screen.blits([(aliens[alien.row][alien.frame], (alien.x, alien.y + FOOTPRINT_ABOVE))
-                           for alien in world.rack.live_aliens()], doreturn=False)
+        # The rack in one call (`fblits`: 14 against 40 us for `blits`, a script), `top` read
+        # as y + FOOTPRINT_ABOVE.
+        aliens = self._aliens
+        self.screen.fblits([(aliens[alien.row][alien.frame], (alien.x, alien.y + FOOTPRINT_ABOVE))
+                            for alien in world.rack.live_aliens()])
         for explosion in world.explosions:
             picture = art.ALIEN_EXPLOSION if explosion.blast.value == "alien" else art.SHOT_BURST
             blit(self.sprite(picture), (explosion.x, explosion.y))
