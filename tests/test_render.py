@@ -7,6 +7,10 @@ import pygame
 from invaders.app.cli import main
 from invaders.app.render import Renderer
 from invaders.game import art
+from invaders.game.events import Event
+from invaders.game.world import World
+from invaders.lab.autopilot import Autopilot
+from invaders.lab.picture import WHITE, Picture
 from tests.helpers import active_world
 
 
@@ -258,3 +262,30 @@ def test_each_live_alien_is_drawn_in_its_own_frames_picture_pixel_for_pixel():
         for y, row in enumerate(picture):
             for x, ch in enumerate(row):
                 assert _lit(flat, alien.x + x, alien.top + y) == (ch == "#"), (alien.index, x, y)
+
+
+class _ShieldsDrawnEachFrame(Picture):
+    def _draw_shields(self, world) -> None:
+        for bunker in world.bunkers:
+            bunker.mask.to_surface(self.screen, setcolor=WHITE, unsetcolor=None,
+                                   dest=(bunker.x, bunker.y))
+
+
+def test_the_kept_shields_are_the_shields_drawn_afresh_in_every_frame_of_a_two_player_game():
+    # (The kept picture relies on World.erosions counting every change to a shield's pixels,
+    # and on a new field's shields being a new list.)
+    world, pilot = World(seed=5, players=2), Autopilot(5)
+    kept, afresh = Picture(), _ShieldsDrawnEachFrame()
+    events, wears = set(), set()
+    for _ in range(3000):
+        events.update(world.step(pilot.actions(world)).events)
+        wears.add(world.erosions)
+        assert (pygame.image.tobytes(kept.draw(world), "RGB")
+                == pygame.image.tobytes(afresh.draw(world), "RGB")), world.tick
+    assert {Event.PLAYER_UP, Event.TURN_STARTED, Event.BUNKER_HIT} <= events and len(wears) > 20
+    for shield in (0, 3):  # two new worlds' shields, each worn once, in another place
+        other = World(seed=6)
+        bunker = other.bunkers[shield]
+        other.erode(art.mask_of(art.SHOT_BURST), bunker.x + 4, bunker.y)
+        assert other.erosions == 1 and (pygame.image.tobytes(kept.draw(other), "RGB")
+                                         == pygame.image.tobytes(afresh.draw(other), "RGB"))
