@@ -47,7 +47,7 @@ class Picture:
     screen may be given: a surface over an array's memory (`pygame.image.frombuffer`)
     makes every drawing land in the array; `clear` then blacks it (SDL fills an 8-bit
     surface a byte at a time: 80 us, where numpy fills the array in 2). Sprites and texts
-    are made in the screen's format, so each blit is a copy."""
+    are made in the screen's pixel format."""
 
     def __init__(self, screen: pygame.Surface | None = None,
                  clear: Callable[[], object] | None = None) -> None:
