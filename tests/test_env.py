@@ -493,23 +493,43 @@ def test_the_shrink_is_the_exact_area_average_of_any_picture(size):
 
 
 @pytest.mark.parametrize("size", SIZES)
-def test_each_product_of_the_shrink_stays_on_one_blas_thread_and_the_blocks_cover_it(size):
+def test_games_shrunk_together_are_each_the_exact_area_average_of_its_picture(size):
+    from invaders.env.observations import Shrink
+
+    rng = np.random.default_rng(sum(size))
+    pictures = [np.full((256, 224), 255, np.uint8), np.zeros((256, 224), np.uint8),
+                *rng.integers(0, 256, (5, 256, 224), dtype=np.uint8)]
+    shrink = Shrink(size, games=len(pictures))  # (products of several games, and of one)
+    for game, picture in enumerate(pictures):
+        shrink.picture(game)[:] = picture.reshape(shrink.picture(game).shape)
+    small = shrink.shrink()
+    for game, picture in enumerate(pictures):
+        assert np.array_equal(small[game], _area_average(picture, *size))
+
+
+@pytest.mark.parametrize("games", [1, 8])
+@pytest.mark.parametrize("size", SIZES)
+def test_each_product_of_the_shrink_stays_on_one_blas_thread_and_the_blocks_cover_it(
+        size, games):
     """The invariant the blocked shrink keeps: no product passes the work under which
-    OpenBLAS stays on the calling thread, and each axis's blocks, put back together, are a
-    period's whole weights (each output once, none of its weights left out), the periods
-    covering the picture."""
+    OpenBLAS stays on the calling thread, each reads and writes the shrink's own arrays (no
+    copy), and each axis's blocks, put back together, are a period's whole weights (each
+    output once, none of its weights left out), the periods covering the picture."""
     from invaders.env.observations import BLOCK_WORK, Shrink, area_weights
 
-    shrink = Shrink(size)
-    for axis, size_in, size_out, across in (
-            (shrink.rows, 256, size[0], 224),
-            (shrink.cols, 224, size[1], size[0] * shrink.cols.periods)):
+    shrink = Shrink(size, games)
+    for weights, inputs, outputs in shrink.row_products:
+        assert weights.shape[0] * weights.shape[1] * inputs.shape[1] <= BLOCK_WORK
+        assert np.shares_memory(inputs, shrink._grey) and np.shares_memory(outputs, shrink._half)
+    for weights, inputs, outputs in shrink.column_products:
+        assert inputs.shape[0] * weights.shape[0] * weights.shape[1] <= BLOCK_WORK
+        assert np.shares_memory(inputs, shrink._half) and np.shares_memory(outputs, shrink._small)
+    for axis, size_in, size_out in ((shrink.rows, 256, size[0]), (shrink.cols, 224, size[1])):
         assert axis.periods * axis.period_in == size_in
         assert axis.periods * axis.period_out == size_out
         weights = area_weights(axis.period_in, axis.period_out)
         rebuilt = np.zeros_like(weights)
         for outputs, span, part in axis.blocks:
-            assert part.shape[0] * part.shape[1] * across <= BLOCK_WORK
             rebuilt[outputs, span] += part
         assert np.array_equal(rebuilt, weights)  # (a block twice would count twice)
 

@@ -12,6 +12,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from invaders.env.observations import Shrink
 from invaders.env.space_invaders import SpaceInvadersEnv
 
 NUMBERS = ("lives", "episode_frame_number", "frame_number")  # ALE's info, a column each
@@ -42,36 +43,62 @@ class Rows(NamedTuple):
 
 
 class Games:
-    """`SpaceInvadersEnv`s with the same options, and the rows they write."""
+    """`SpaceInvadersEnv`s with the same options, and the rows they write. Grey pictures
+    made smaller are made together: each game draws its own, then one Shrink takes them
+    all (and the stacks move on together)."""
 
     def __init__(self, count: int, rows: Rows, options: dict[str, Any]) -> None:
         self.envs = [SpaceInvadersEnv(**options) for _ in range(count)]
         self.rows = rows
+        resize = options.get("resize")
+        self._shrink = Shrink(resize, count) if resize is not None else None
 
     def reset(self, seeds: list[int | None]) -> None:
         rows = self.rows
         for i, (env, seed) in enumerate(zip(self.envs, seeds, strict=True)):
             env.reset(seed=seed)
-            rows.obs[i] = env.frame(first=True)
+            self._observe(i, env, first=True)
             self._note(i, env)
+        self._shrunk(np.ones(len(self.envs), np.bool_))
         rows.rewards[:] = 0.0
         rows.terminated[:] = rows.truncated[:] = rows.ended[:] = False
 
     def step(self, actions: list[int]) -> None:
         """One step of every game (actions already checked)."""
         rows = self.rows
+        first = rows.ended.copy()  # NEXT_STEP: this step resets these
         for i, (env, action) in enumerate(zip(self.envs, actions, strict=True)):
-            if rows.ended[i]:  # NEXT_STEP: this step resets it
+            if first[i]:
                 env.begin(None)
                 rows.rewards[i], rows.terminated[i], rows.truncated[i] = 0.0, False, False
-                rows.obs[i] = env.frame(first=True)
             else:
                 reward, terminated, truncated, _ = env.advance(action)
                 rows.rewards[i], rows.terminated[i], rows.truncated[i] = (
                     reward, terminated, truncated)
-                rows.obs[i] = env.frame()
+            self._observe(i, env, bool(first[i]))
             self._note(i, env)
+        self._shrunk(first)
         np.logical_or(rows.terminated, rows.truncated, out=rows.ended)
+
+    def _observe(self, i: int, env: SpaceInvadersEnv, first: bool) -> None:
+        """Game i's observation in its row, or its grey picture in the shrink's place."""
+        if self._shrink is None:
+            self.rows.obs[i] = env.frame(first)
+        else:
+            env.grey_into(self._shrink.picture(i))
+
+    def _shrunk(self, first: np.ndarray) -> None:
+        """The games' grey pictures made smaller, each the newest of its game's stack (a
+        game's first fills its stack, as a reset does)."""
+        if self._shrink is None:
+            return
+        small, obs = self._shrink.shrink(), self.rows.obs
+        if obs.ndim == small.ndim:  # (no stack)
+            obs[:] = small
+            return
+        obs[:, :-1] = obs[:, 1:]
+        obs[:, -1] = small
+        obs[first] = small[first][:, None]
 
     def close(self) -> None:
         for env in self.envs:

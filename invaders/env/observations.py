@@ -58,6 +58,13 @@ class PixelObserver:
         self.picture.draw(world)
         return np.bitwise_and(self.canvas, self.gel, out=self.out)
 
+    def tint_into(self, world: World, into: np.ndarray) -> None:
+        """The world's grey picture written into `into` (a shrink's float32 place for it,
+        the picture's rows reshaped): a lit byte is 255 and any other 0, so its minimum
+        with the gel is the tint, made and converted in one operation."""
+        self.picture.draw(world)
+        np.minimum(self.canvas.reshape(into.shape), self.gel.reshape(into.shape), out=into)
+
 
 # The state vector, field by field: (name, how many numbers, what they are).
 STATE_FIELDS = (
@@ -114,7 +121,7 @@ def area_weights(size_in: int, size_out: int) -> np.ndarray:
 # m * n * k / (65536 * 4)), so the games in a vector's worker processes start no BLAS
 # threads to fight over the cores (a whole product at once did: about 6 times slower).
 BLOCK_WORK = 2**18
-BLOCK_ROWS = 12  # outputs a block (fewer if its work would pass BLOCK_WORK)
+BLOCK_ROWS = 4  # outputs a block (fewer if its work would pass BLOCK_WORK)
 
 
 class Axis(NamedTuple):
@@ -148,10 +155,15 @@ class Axis(NamedTuple):
 
 
 class Shrink:
-    """A grey picture made smaller by area averaging, exactly, in arrays kept between
-    steps: the rows, then the columns, each a block of a period's outputs at a time against
-    only the inputs they cover, for every period in one product; then a division and a
-    rounding half up; nothing allocated.
+    """Grey pictures, one a game, made smaller by area averaging, exactly, together, in
+    arrays kept between steps. The pictures are put in one float32 array, each game's
+    periods of rows side by side and the games after one another, so a product takes the
+    periods of many games at once: the rows, then the columns, a block of a period's
+    outputs at a time against only the inputs they cover, each product cut to stay under
+    BLOCK_WORK; then a division and a rounding half up; nothing allocated. (The native
+    batch of 8 games, 84x84 grey stacked 4, took 222 against 252 us a game's step with
+    each game shrunk alone: a script, 40 rounds in turn in one process; a single game
+    about as fast as before, 324 against 338 us a step.)
 
     Exact, whatever the order the products add in: the weights are whole numbers, so every
     sum is a whole number, at most 255 times the weights' total D (the two periods of
@@ -161,35 +173,71 @@ class Shrink:
     quotient (under 256) by at most 2**-17, less than any fraction it can have (a multiple
     of 1 / D), so dropping the fraction gives the rounding half up."""
 
-    def __init__(self, size: tuple[int, int]) -> None:
+    def __init__(self, size: tuple[int, int], games: int = 1) -> None:
         height, width = size
-        self.rows = Axis.of(SCREEN_H, height, across=SCREEN_W)
-        self.cols = Axis.of(SCREEN_W, width, across=height * gcd(SCREEN_W, width))
+        periods = gcd(SCREEN_H, height)
+        self.rows = Axis.of(SCREEN_H, height, across=periods * SCREEN_W)  # (one game's)
+        self.cols = Axis.of(SCREEN_W, width, across=1)  # (the products cut below)
         self.total = self.rows.period_in * self.cols.period_in
-        self._grey = np.zeros((SCREEN_H, SCREEN_W), np.float32)
-        self._half = np.zeros((height, SCREEN_W), np.float32)
-        self._small = np.zeros((height, width), np.float32)
-        self.out = np.zeros((height, width), np.uint8)
+        rows = self.rows
+        self._grey = np.zeros((rows.period_in, games, periods, SCREEN_W), np.float32)
+        self._half = np.zeros((rows.period_out, games, periods, SCREEN_W), np.float32)
+        self._small = np.zeros((rows.period_out, games, periods, width), np.float32)
+        self.out = np.zeros((games, height, width), np.uint8)
+        self.row_products = self._row_products(games)
+        self.column_products = self._column_products()
+
+    def _row_products(self, games: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """Each block of the rows' weights times the rows it covers, for as many games at
+        once as BLOCK_WORK allows: (weights, inputs, outputs)."""
+        grey2 = self._grey.reshape(self.rows.period_in, games, -1)
+        half2 = self._half.reshape(self.rows.period_out, games, -1)
+        game_work = max(w.size for _, _, w in self.rows.blocks) * grey2.shape[2]
+        each = max(1, BLOCK_WORK // game_work)
+        return [(weights, _flat(grey2[span, first:first + each]),
+                 _flat(half2[outputs, first:first + each]))
+                for first in range(0, games, each) for outputs, span, weights in self.rows.blocks]
+
+    def _column_products(self) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """Each block of the columns' weights (transposed: the columns are on the right)
+        times every row's periods of columns, as many rows at once as BLOCK_WORK allows."""
+        half2 = self._half.reshape(-1, self.cols.period_in)
+        small2 = self._small.reshape(-1, self.cols.period_out)
+        found = []
+        for outputs, span, weights in self.cols.blocks:
+            each = max(1, BLOCK_WORK // weights.size)
+            found += [(weights.T, half2[first:first + each, span],
+                       small2[first:first + each, outputs])
+                      for first in range(0, half2.shape[0], each)]
+        return found
+
+    def picture(self, game: int) -> np.ndarray:
+        """Where game `game`'s grey picture goes, as (periods, rows a period, 224): the
+        picture's own rows, reshaped so."""
+        return self._grey[:, game].transpose(1, 0, 2)
 
     def __call__(self, grey: np.ndarray) -> np.ndarray:
-        np.copyto(self._grey, grey)
-        rows, cols = self.rows, self.cols
-        # The rows: each period of inputs (a stack of row bands) times the weights' blocks.
-        grey3 = self._grey.reshape(rows.periods, rows.period_in, SCREEN_W)
-        half3 = self._half.reshape(rows.periods, rows.period_out, SCREEN_W)
-        for outputs, span, weights in rows.blocks:
-            np.matmul(weights, grey3[:, span], out=half3[:, outputs])
-        # The columns: every row's periods of columns times the blocks' weights
-        # (transposed: the columns are on the right).
-        height = self._half.shape[0]
-        half2 = self._half.reshape(height * cols.periods, cols.period_in)
-        small2 = self._small.reshape(height * cols.periods, cols.period_out)
-        for outputs, span, weights in cols.blocks:
-            np.matmul(half2[:, span], weights.T, out=small2[:, outputs])
+        """One game's grey picture made smaller (in the first game's place)."""
+        np.copyto(self.picture(0), grey.reshape(self.picture(0).shape))
+        return self.shrink()[0]
+
+    def shrink(self) -> np.ndarray:
+        """Every game's picture made smaller, in `out` (games, height, width)."""
+        for weights, inputs, outputs in self.row_products:
+            np.matmul(weights, inputs, out=outputs)
+        for weights, inputs, outputs in self.column_products:
+            np.matmul(inputs, weights, out=outputs)
         np.add(self._small, self.total // 2, out=self._small)
         np.divide(self._small, self.total, out=self._small)
-        np.copyto(self.out, self._small, casting="unsafe")  # (drops the fraction)
+        games, _, width = self.out.shape
+        np.copyto(self.out.reshape(games, self.rows.periods, self.rows.period_out, width),
+                  self._small.transpose(1, 2, 0, 3), casting="unsafe")  # (drops the fraction)
         return self.out
+
+
+def _flat(part: np.ndarray) -> np.ndarray:
+    """A (rows, games, columns) part of the wide arrays as (rows, games * columns)."""
+    return part.reshape(part.shape[0], -1)
 
 
 class Stack:

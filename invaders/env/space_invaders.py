@@ -190,15 +190,23 @@ class SpaceInvadersEnv(gym.Env):
         """This step's observation, a copy (the arrays behind it are kept and rewritten)."""
         return self.frame(first).copy()
 
+    def grey_into(self, into: np.ndarray) -> None:
+        """This step's grey picture, for a batch that shrinks its games' pictures together
+        (Shrink.picture gives each game's place): when the observation is grey and resized."""
+        assert self._pixels is not None and self.world is not None
+        self._pixels.tint_into(self.world, into)
+
     def frame(self, first: bool = False) -> np.ndarray:
         """The observation in the array kept for it (rewritten next step): what a batch
         copies into its own array. `first`: the episode's first (a stack starts from it)."""
         assert self.world is not None
         if self._pixels is None:
             return observe_state(self.world, self._state)
-        frame = self._pixels.observe(self.world)
         if self._shrink is not None:
-            frame = self._shrink(frame)
+            self.grey_into(self._shrink.picture(0))
+            frame = self._shrink.shrink()[0]
+        else:
+            frame = self._pixels.observe(self.world)
         if self._stack is not None:
             frame = self._stack.reset(frame) if first else self._stack.push(frame)
         return frame
