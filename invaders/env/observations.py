@@ -216,11 +216,6 @@ class Shrink:
         picture's own rows, reshaped so."""
         return self._grey[:, game].transpose(1, 0, 2)
 
-    def __call__(self, grey: np.ndarray) -> np.ndarray:
-        """One game's grey picture made smaller (in the first game's place)."""
-        np.copyto(self.picture(0), grey.reshape(self.picture(0).shape))
-        return self.shrink()[0]
-
     def shrink(self) -> np.ndarray:
         """Every game's picture made smaller, in `out` (games, height, width)."""
         for weights, inputs, outputs in self.row_products:
