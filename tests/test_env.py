@@ -19,6 +19,7 @@ from invaders.app.render import Renderer
 from invaders.env.observations import STATE_FIELDS, STATE_SIZE
 from invaders.env.space_invaders import MINIMAL_ACTIONS, SpaceInvadersEnv
 from invaders.game.actions import Action
+from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.entities import CannonState
 from invaders.game.replay import load
 from invaders.game.world import Phase
@@ -415,6 +416,8 @@ def test_the_native_vector_environment_steps_as_gymnasiums_sync_one(options):
     sync = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="sync", **options)
     assert type(native).__name__ == "SpaceInvadersVectorEnv"
     assert native.observation_space == sync.observation_space
+    if "resize" in options:  # (the batch shrinks and stacks: its games draw full size)
+        assert {env.observation_space.shape for env in native.envs} == {(SCREEN_H, SCREEN_W)}
     ends, _ = _in_lockstep(native, sync, 5, ("lives", "episode_frame_number"))
     assert ends == 6  # each game cut at 400 frames, twice in 210 steps
     native.close()
