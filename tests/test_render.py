@@ -271,17 +271,19 @@ class _ShieldsDrawnEachFrame(Picture):
                                    dest=(bunker.x, bunker.y))
 
 
-def test_the_kept_shields_are_the_shields_drawn_afresh_in_every_frame_of_a_two_player_game():
-    # (The kept picture relies on World.erosions counting every change to a shield's pixels,
-    # and on a new field's shields being a new list.)
-    world, pilot = World(seed=5, players=2), Autopilot(5)
+def test_the_kept_shields_are_the_shields_drawn_afresh_in_every_frame_of_two_games():
+    # (The kept pictures rely on World.erosions counting every change to a shield's pixels,
+    # and on a new field's shields being a new list; one picture draws both games in turn,
+    # as a batch of games draws its games, each game's shields kept apart.)
+    worlds = [(World(seed=5, players=2), Autopilot(5)), (World(seed=7), Autopilot(7))]
     kept, afresh = Picture(), _ShieldsDrawnEachFrame()
     events, wears = set(), set()
     for _ in range(3000):
-        events.update(world.step(pilot.actions(world)).events)
-        wears.add(world.erosions)
-        assert (pygame.image.tobytes(kept.draw(world), "RGB")
-                == pygame.image.tobytes(afresh.draw(world), "RGB")), world.tick
+        for world, pilot in worlds:
+            events.update(world.step(pilot.actions(world)).events)
+            wears.add(world.erosions)
+            assert (pygame.image.tobytes(kept.draw(world), "RGB")
+                    == pygame.image.tobytes(afresh.draw(world), "RGB")), world.tick
     assert {Event.PLAYER_UP, Event.TURN_STARTED, Event.BUNKER_HIT} <= events and len(wears) > 20
     for shield in (0, 3):  # two new worlds' shields, each worn once, in another place
         other = World(seed=6)

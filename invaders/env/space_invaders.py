@@ -10,6 +10,7 @@ objects, and every episode written as a replay that `invaders replay` checks.
 
 from __future__ import annotations
 
+import functools
 import random
 from pathlib import Path
 from typing import Any, ClassVar
@@ -73,7 +74,6 @@ class SpaceInvadersEnv(gym.Env):
         self._meanings = meanings
         self._actions = tuple(_bits(m) for m in meanings)
         self.action_space = spaces.Discrete(len(meanings))
-        self._pixels = PixelObserver(obs_type == "grayscale") if obs_type != "state" else None
         self._shrink = Shrink(resize) if resize is not None else None
         shape = resize or (SCREEN_H, SCREEN_W)
         self._stack = Stack(stack, (*shape, 3) if obs_type == "rgb" else shape) if (
@@ -87,6 +87,12 @@ class SpaceInvadersEnv(gym.Env):
         self._episodes = 0
         self.frame_number = 0
         self.world: World | None = None
+
+    @functools.cached_property
+    def _pixels(self) -> PixelObserver:
+        """What draws the picture observed, made when first drawn with (a batch that draws
+        its games' pictures itself never makes one)."""
+        return PixelObserver(self.obs_type == "grayscale")
 
     @property
     def episode_frame_number(self) -> int:
@@ -162,7 +168,7 @@ class SpaceInvadersEnv(gym.Env):
         """The RGB picture (rgb_array), or the picture shown in a window (human)."""
         if self.world is None or self.render_mode is None:
             return None
-        if self._pixels is not None and not self._pixels.grayscale:
+        if self.obs_type == "rgb":
             picture = self._pixels.observe(self.world)
         else:
             self._shown = self._shown or PixelObserver(grayscale=False)
@@ -190,20 +196,14 @@ class SpaceInvadersEnv(gym.Env):
         """This step's observation, a copy (the arrays behind it are kept and rewritten)."""
         return self.frame(first).copy()
 
-    def grey_into(self, into: np.ndarray) -> None:
-        """This step's grey picture, for a batch that shrinks its games' pictures together
-        (Shrink.picture gives each game's place): when the observation is grey and resized."""
-        assert self._pixels is not None and self.world is not None
-        self._pixels.tint_into(self.world, into)
-
     def frame(self, first: bool = False) -> np.ndarray:
         """The observation in the array kept for it (rewritten next step): what a batch
         copies into its own array. `first`: the episode's first (a stack starts from it)."""
         assert self.world is not None
-        if self._pixels is None:
+        if self.obs_type == "state":
             return observe_state(self.world, self._state)
         if self._shrink is not None:
-            self.grey_into(self._shrink.picture(0))
+            self._pixels.tint_into(self.world, self._shrink.picture(0))
             frame = self._shrink.shrink()[0]
         else:
             frame = self._pixels.observe(self.world)

@@ -40,6 +40,7 @@ def gel_surface() -> pygame.Surface:
 
 
 TEXTS_KEPT = 256  # lines of text kept drawn (the score bar's change only with the score)
+SHIELDS_KEPT = 256  # worlds whose shields are kept drawn (a batch draws its games with one)
 
 
 class Picture:
@@ -58,7 +59,7 @@ class Picture:
         self._texts: dict[str, pygame.Surface] = {}
         # Each rack row's pictures, by frame (looked up 55 times a frame).
         self._aliens = tuple(tuple(map(self.sprite, frames)) for frames in art.ALIEN_BY_ROW)
-        self._shields: Shields | None = None
+        self._shields: dict[int, Shields] = {}  # by the world's id
 
     def sprite(self, picture: art.Art) -> pygame.Surface:
         surface = self._sprites.get(picture)
@@ -134,9 +135,12 @@ class Picture:
     def _draw_shields(self, world: World) -> None:
         if not world.bunkers:
             return
-        if self._shields is None or not self._shields.still(world):
-            self._shields = Shields.of(world, self.screen)
-        self.screen.blit(self._shields.picture, self._shields.at)
+        kept = self._shields.get(id(world))
+        if kept is None or not kept.still(world):  # (a world made since in its place, too)
+            if len(self._shields) >= SHIELDS_KEPT:
+                self._shields.clear()
+            kept = self._shields[id(world)] = Shields.of(world, self.screen)
+        self.screen.blit(kept.picture, kept.at)
 
     def _draw_play(self, world: World, alpha: float) -> None:
         blit = self.screen.blit
