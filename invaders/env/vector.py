@@ -6,8 +6,8 @@ arrays in shared memory: workers.py). Autoreset as Gymnasium 1.x's default (`NEX
 the step after an episode ends resets that game (reward 0, its first observation), the
 others step on. Each game is a `SpaceInvadersEnv`, so each gives what it would alone; the
 batch saves the per-game copies, infos and wrappers of a generic vector environment (and,
-on workers, the pickled infos of Gymnasium's async one), and shrinks its games' grey
-pictures together (games.py).
+on workers, the pickled infos of Gymnasium's async one), and draws and shrinks its games'
+grey pictures together (games.py).
 """
 
 from __future__ import annotations
