@@ -44,10 +44,10 @@ class Rows(NamedTuple):
 
 class Games:
     """`SpaceInvadersEnv`s with the same options, and the rows they write. Grey pictures
-    made smaller are made together: one picture draws every game's in turn (its canvas,
-    sprites and texts stay in the cache, where each game's own picture made eight sets of
-    them: 8 games step 1.14 times as fast, the median of 40 rounds in turn, a script), then
-    one Shrink takes them all (and the stacks move on together)."""
+    made smaller are made together: one picture draws every game's in turn (one canvas and
+    one set of sprites and texts, which stay in the cache where a set a game did not: 8
+    games step 1.14 times as fast, the median of 40 rounds in turn, a script), then one
+    Shrink takes them all (and the stacks move on together)."""
 
     def __init__(self, count: int, rows: Rows, options: dict[str, Any]) -> None:
         resize = options.get("resize")
