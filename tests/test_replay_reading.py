@@ -275,41 +275,110 @@ def _long_objects(tmp_path: Path) -> list[dict]:
     return [json.loads(line) for line in (tmp_path / "long.json").read_text().splitlines()]
 
 
-@pytest.mark.parametrize("escaped", [False, True])
-def test_lines_with_lab_switches_cost_only_themselves_the_block_readers(tmp_path, escaped):
-    """A lab switch every 50 lines, its name written plainly (the line cut out of its block
-    and read on its own, the rest left whole to the regular expressions) or escaped (its
-    block read whole by the JSON block reader): the replay is the one the JSON parser
-    alone reads."""
-    objects = _long_objects(tmp_path)
-    for index in range(50, len(objects), 50):
+def _switched(objects: list[dict], lines: range) -> str:
+    """The lines, each of `lines` with a lab switch at its first tick, as the program
+    writes them."""
+    for index in lines:
         objects[index]["lab"] = [[objects[index - 1]["checkpoint"]["tick"], {"speed": 1}]]
-    text = "".join(json.dumps(o, separators=(",", ":")) + "\n" for o in objects)
-    path = tmp_path / "switched.json"
-    path.write_text(text.replace('"lab"', '"\\u006cab"') if escaped else text)
-    with mock.patch.object(replay_reading, "_any_line", wraps=replay_reading._any_line
-                           ) as alone:
-        replay = load(path)
-    assert replay == _by_json_alone(path) and len(objects) > 400
-    assert [tick for tick, _ in replay.switches] == [60 * n - 60 for n in range(50, 430, 50)]
-    assert alone.call_count == (0 if escaped else len(replay.switches))
+    return "".join(segment_or_header(o) for o in objects)
 
 
-def test_a_run_of_lines_with_lab_switches_is_read_as_a_block(tmp_path):
-    """A hundred lines in a row each with a lab switch (the most a replay may hold is
-    10,000): cut out of their blocks together, the JSON block reader takes them, not the
-    JSON parser a line at a time; the replay is the one the JSON parser alone reads."""
-    objects = _long_objects(tmp_path)
-    for index in range(100, 200):
-        objects[index]["lab"] = [[objects[index - 1]["checkpoint"]["tick"], {"speed": 1}]]
-    path = tmp_path / "switched.json"
-    path.write_text("".join(json.dumps(o, separators=(",", ":")) + "\n" for o in objects))
+def segment_or_header(data: dict) -> str:
+    """A line with its fields in the order they came (the program's, for its own lines)."""
+    return json.dumps(data, separators=(",", ":")) + "\n"
+
+
+def _read_counting(path: Path) -> tuple[object, int, int]:
+    """What loading gives, and how many blocks the JSON block reader and lines the
+    line-by-line reader were given."""
     with mock.patch.object(replay_reading, "_any_line", wraps=replay_reading._any_line
                            ) as alone, mock.patch.object(
             json_block, "read_block", wraps=json_block.read_block) as by_json:
-        replay = load(path)
+        return _outcome(path), by_json.call_count, alone.call_count
+
+
+@pytest.mark.parametrize("escaped", [False, True])
+def test_lines_with_lab_switches_are_read_with_their_blocks(tmp_path, escaped):
+    """A lab switch every 50 lines, its name written plainly (cut out of its line, the
+    block read whole by the regular expressions) or escaped (which no cut takes: the block
+    read whole by the JSON block reader): no line is read on its own, and the replay is
+    the one the JSON parser alone reads."""
+    objects = _long_objects(tmp_path)
+    text = _switched(objects, range(50, len(objects), 50))
+    path = tmp_path / "switched.json"
+    path.write_text(text.replace('"lab"', '"\\u006cab"') if escaped else text)
+    replay, by_json, alone = _read_counting(path)
+    assert replay == _by_json_alone(path) and len(objects) > 400
+    assert [tick for tick, _ in replay.switches] == [60 * n - 60 for n in range(50, 430, 50)]
+    assert alone == 0 and (by_json > 0) == escaped
+
+
+def test_a_run_of_lines_with_lab_switches_is_read_by_the_regular_expressions(tmp_path):
+    """A hundred lines in a row each with a lab switch (the most a replay may hold is
+    10,000), each cut out of its line: the blocks are read whole by the regular
+    expressions, neither by the JSON block reader nor a line at a time; the replay is the
+    one the JSON parser alone reads."""
+    path = tmp_path / "switched.json"
+    path.write_text(_switched(_long_objects(tmp_path), range(100, 200)))
+    replay, by_json, alone = _read_counting(path)
     assert replay == _by_json_alone(path) and len(replay.switches) == 100
-    assert alone.call_count <= 2 and by_json.call_count <= 4  # (a block's edge may cut one)
+    assert by_json == alone == 0
+
+
+# A line's lab switches written as a tool or a hostile file might: where the member sits,
+# with white space, written twice, inside the checkpoint, with what JSON refuses around it
+# or in it. In each line, I is the line's inputs, C its checkpoint (K without its last
+# brace) and L its lab member, of the value given (%d: the tick at the line's start).
+SWITCH = '[[%d,{"speed":1}]]'
+LAB_LINES = {
+    "first": ("{L,I,C}", SWITCH),
+    "between": ("{I,L,C}", SWITCH),
+    "last": ("{I,C,L}", SWITCH),
+    "spaced": ("{ I , L\r,\tC }", SWITCH),
+    "spaced last": ("{I,C ,\t L }", SWITCH),
+    "a word with an escape": ("{I,L,C}", '[[%d,{"broad":"gr\\u0069d"}]]'),
+    "twice": ("{I,L,L,C}", SWITCH),
+    "twice, once escaped": ('{I,"\\u006cab":[],L,C}', SWITCH),
+    "a word not ASCII": ("{I,L,C}", '[[%d,{"broad":"gr\u00efd"}]]'),
+    "in the checkpoint": ("{I,K,L}}", SWITCH),
+    "as a value": ('{I,C,"x":"lab"}', SWITCH),
+    "alone": ("{L}", SWITCH),
+    "no comma before": ("{I,C L}", SWITCH),
+    "no comma after": ("{I,L C}", SWITCH),
+    "a comma too many": ("{I,,L,C}", SWITCH),
+    "a comma at the end": ("{I,C,L,}", SWITCH),
+    "a comma first": ("{,L,I,C}", SWITCH),
+    "its comma after it, not before": ("{I,C L,}", SWITCH),
+    "its comma before it twice, not after": ("{I,,L C}", SWITCH),
+    "its value cut short": ("{I,L,C}", '[[%d,{"speed":1}]'),
+    "a fraction": ("{I,L,C}", '[[%d,{"speed":1.5}]]'),
+    "NaN": ("{I,L,C}", '[[%d,{"speed":NaN}]]'),
+    "a long number": ("{I,L,C}", '[[%d,{"speed":1' + "0" * 30 + "}]]"),
+}
+VALID = ("first", "between", "last", "spaced", "spaced last", "a word with an escape", "twice",
+         "twice, once escaped", "a word not ASCII")  # (JSON keeps a name's last value)
+CUT = VALID[:6]  # (the member written once, plainly, at the top level between delimiters)
+
+
+@pytest.mark.parametrize("shape", list(LAB_LINES))
+def test_a_lab_switch_in_any_shape_is_read_as_json_reads_it(tmp_path, shape):
+    """Each shape above in one line of a long replay: the replay, or the refusal, that the
+    JSON parser alone gives; a member the cut takes is cut out (no JSON block reader, no
+    line on its own), any other leaves its block to them."""
+    objects = _long_objects(tmp_path)
+    template, value = LAB_LINES[shape]
+    checkpoint = '"checkpoint":' + json.dumps(objects[200]["checkpoint"], separators=(",", ":"))
+    members = {"I": '"inputs":' + json.dumps(objects[200]["inputs"], separators=(",", ":")),
+               "C": checkpoint, "K": checkpoint[:-1],
+               "L": '"lab":' + value % objects[199]["checkpoint"]["tick"]}
+    lines = [segment_or_header(o) for o in objects]
+    lines[200] = re.sub("[ICKL]", lambda found: members[found[0]], template) + "\n"
+    path = tmp_path / "lab.json"
+    path.write_text("".join(lines))
+    outcome, by_json, alone = _read_counting(path)
+    assert outcome == _by_json_alone(path)
+    assert isinstance(outcome, str) == (shape not in VALID)
+    assert (by_json == alone == 0) == (shape in CUT), (by_json, alone)
 
 
 def test_a_run_of_lines_too_full_of_lab_switches_is_refused_as_json_alone_refuses_it(
@@ -397,10 +466,11 @@ def compact_mutants(draw, path: Path) -> str:
         bits, count = runs[at]
         part = draw(st.integers(0, count))  # (a part of 0 ticks: no file may hold one)
         runs[at:at + 1] = [[bits, part], [bits, count - part]]
-    elif how == "lab":  # a switch, its tick inside the line's span or just outside it
-        start = objects[index - 1]["checkpoint"]["tick"]
+    elif how == "lab":  # a switch, its tick inside the line's span or just outside it,
+        start = objects[index - 1]["checkpoint"]["tick"]  # anywhere among the line's fields
         tick = draw(st.integers(start - 1, objects[index]["checkpoint"]["tick"]))
-        objects[index]["lab"] = [[tick, {"speed": draw(st.integers(0, 2))}]]
+        line = dict(objects[index], lab=[[tick, {"speed": draw(st.integers(0, 2))}]])
+        objects[index] = {name: line[name] for name in draw(st.permutations(list(line)))}
     elif how == "reorder":
         objects[index] = dict(reversed(objects[index].items()))
     elif how == "shuffle":
@@ -513,5 +583,5 @@ def test_the_reading_bench_reads_the_valid_files_and_refuses_the_hostile_ones():
     rows = [line.split() for line in lines[1:]]
     verdicts = [row[row.index("s") - 2] for row in rows]  # (the word before the seconds)
     assert lines[0].startswith("reading files at the size limit (2,097,152 bytes), 1 rounds")
-    assert verdicts == ["read"] * 9 + ["refused"] * 4 and met, lines
-    assert [row[-1] for row in rows] == ["met"] * 13
+    assert verdicts == ["read"] * 10 + ["refused"] * 4 and met, lines
+    assert [row[-1] for row in rows] == ["met"] * 14

@@ -12,8 +12,8 @@ hostile file may change it every line), by one pattern that takes each object's 
 any order, about two thirds as fast. JSON's escapes of the letters and digits that names
 and digests hold, and -0, are read as what they stand for (Plain). A field or an object
 written twice is read as JSON reads it (the last kept). A block of which any line has
-another shape (a lab switch, a field missing) is left to the JSON block reader
-(json_block.py).
+another shape (a lab switch not cut out of its line by switches_cut.py, a field missing) is
+left to the JSON block reader (json_block.py).
 
 A line that matches is, as JSON, an object of exactly these fields, its numbers whole (and
 of at most 19 digits: read_block bounds them), its digests lower-case hex.

@@ -2,17 +2,17 @@
 
 The regular expressions (canonical.py) read checkpoint lines in any order of fields, with
 any white space, with JSON's escapes of letters and digits, fields and objects written
-twice. What they leave: lines with lab switches (a run of them is cut out of its block for
-this reader), an earlier object written twice that is not one of a checkpoint line's own,
-any other escape. A block of such lines is parsed a line at a time
-by the JSON parser alone, then checked and taken a column at a time, each step a single
-call over the block's lines (map, itemgetter, join, a regular expression), as canonical.py
-takes its columns. Nothing is taken here that reading the lines one by one
-(replay_reading.py) would refuse: a block with any line that is not a checkpoint's line
-with every field in place, every number whole and every digest of the right length gives
-None, and its lines are read again, down to the one that names the problem. The caller
-bounds the numbers, checks the limits (as for canonical.py's blocks) and checks the lab
-switches with the function that checks a line's.
+twice, once lab switches are cut out of their lines (switches_cut.py). What they leave:
+lines with lab switches no cut takes (their name escaped or written twice, say), an earlier
+object written twice that is not one of a checkpoint line's own, any other escape. A block
+of such lines is parsed a line at a time by the JSON parser alone, then checked and taken a
+column at a time, each step a single call over the block's lines (map, itemgetter, join, a
+regular expression), as canonical.py takes its columns. Nothing is taken here that reading
+the lines one by one (replay_reading.py) would refuse: a block with any line that is not a
+checkpoint's line with every field in place, every number whole and every digest of the
+right length gives None, and its lines are read again, down to the one that names the
+problem. The caller bounds the numbers, checks the limits (as for canonical.py's blocks)
+and checks the lab switches with the function that checks a line's.
 """
 
 from __future__ import annotations

@@ -4,12 +4,13 @@ Only a regular file up to the size limit is read. The header (or a whole version
 read first, bounded; the rest a block of whole lines at a time, so a file's text is never
 held whole and a line too long is never kept. Each block is read whole by a regular
 expression when its lines are checkpoints' lines in any order, spacing or escaping of
-letters and digits (canonical.py), else by the JSON parser and checks a column at a time
-(json_block.py); a block neither takes (a lab switch, a value out of place) again by
-halves, down to the lines that are read one by one through the JSON parser and every
-field's check (replay_checks.py), which name any problem: the same result by every way. The
-replay is kept packed (checkpoint.py, runs.py): a replay at the size limit takes memory in
-proportion to what it means, not to the file's size.
+letters and digits (canonical.py), once any lab switches are cut out of them
+(switches_cut.py), else by the JSON parser and checks a column at a time (json_block.py);
+a block neither takes (a value out of place) again by halves, down to the lines that are
+read one by one through the JSON parser and every field's check (replay_checks.py), which
+name any problem: the same result by every way. The replay is kept packed (checkpoint.py,
+runs.py): a replay at the size limit takes memory in proportion to what it means, not to
+the file's size.
 """
 
 from __future__ import annotations
@@ -48,6 +49,7 @@ from invaders.game.replay_format import (
     Switch,
 )
 from invaders.game.runs import Runs
+from invaders.game.switches_cut import cut_switches
 
 
 def parse_lines(lines: list[str], numbers: list[int] | None = None) -> Replay:
@@ -68,33 +70,12 @@ def _parse_blocks(header_line: str, blocks: Iterable[tuple[int, bytes]]) -> Repl
     players = players_of(header)
     runs, checkpoints, switches, orders = Runs(), Checkpoints(), [], canonical.Orders()
     total = 0
-    for first, block in _switches_apart(blocks):
+    for first, block in blocks:
         covered = _block(block, total, runs, checkpoints, switches, orders)
         total = covered if covered is not None else _by_halves(
             list(_block_lines(first, block)), total, runs, checkpoints, switches, orders)
     return finished(seed, config, runs, checkpoints, checkpoints.ticks(), program, total,
                    switches, players)
-
-
-def _switches_apart(blocks: Iterable[tuple[int, bytes]]) -> Iterator[tuple[int, bytes]]:
-    """The blocks with the lines that hold a lab switch (the one line of its own the
-    program writes, which the regular expressions do not take) cut out, each run of them
-    as a block of its own, so the lines around them are still read a block at a time by
-    the regular expressions, and a run of them by the JSON block reader."""
-    for number, block in blocks:
-        start = 0
-        while (at := block.find(b'"lab"', start)) >= 0:
-            line = block.rfind(b"\n", start, at) + 1 or start  # (the line holding it)
-            end = block.find(b"\n", at) + 1
-            while (at := block.find(b'"lab"', end)) >= 0 and block.find(b"\n", end, at) < 0:
-                end = block.find(b"\n", at) + 1  # (the next line holds one too)
-            for part in (block[start:line], block[line:end]):
-                if part:
-                    yield number, part
-                    number += part.count(b"\n")
-            start = end
-        if start < len(block):
-            yield number, block[start:]
 
 
 def _block_lines(number: int, block: bytes) -> Iterator[tuple[int, bytes]]:
@@ -132,13 +113,8 @@ def _block(block: bytes, total: int, runs: Runs, checkpoints: Checkpoints,
            switches: list[Switch], orders: canonical.Orders) -> int | None:
     """Take a block of whole lines when either block reader takes it and every value in it
     is good: the ticks covered so far. None (having taken nothing) for any other block,
-    whose lines are read again by halves. (A single line the regular expressions do not
-    take, such as a lab switch's, is read on its own: for one line the JSON block reader's
-    columns cost more than a line's field checks: a 64 MB replay with 10,000 lab switches
-    read in 2.8 s, against 3.5 s, in one run of a script each way.)"""
-    read = canonical.read_block(block, orders)
-    if read is None and block.count(b"\n") > 1:
-        read = json_block.read_block(block)
+    whose lines are read again by halves."""
+    read = _read_block(block, orders)
     if read is None:
         return None
     ends = [total + end for end in read.ends]
@@ -153,6 +129,27 @@ def _block(block: bytes, total: int, runs: Runs, checkpoints: Checkpoints,
     runs.extend(read.bits, read.counts)
     checkpoints.extend_columns(read.ticks, read.values, read.digests)
     return ends[-1]
+
+
+def _read_block(block: bytes, orders: canonical.Orders) -> canonical.Block | None:
+    """The block's lines as columns: by the regular expressions, with any lab switches cut
+    out of their lines first, else by the JSON block reader; None if neither takes it. (A
+    single line the regular expressions do not take is read on its own: for one line the
+    JSON block reader's columns cost more than a line's field checks.)"""
+    if _LAB not in block:
+        read = canonical.read_block(block, orders)
+    elif (cut := cut_switches(block)) is not None:
+        read = canonical.read_block(cut[0], orders)
+        if read is not None:  # (its longest line: at most the block, as the others')
+            read = read._replace(longest=len(block), switches=cut[1])
+    else:
+        read = None
+    if read is None and block.count(b"\n") > 1:
+        read = json_block.read_block(block)
+    return read
+
+
+_LAB = b'"lab"'
 
 
 def _switches_taken(listed: list[tuple[int, Any]], bounds: list[int],
