@@ -258,6 +258,24 @@ def _checkpoint_line() -> str:
     return segment_line([[0, 1]], Checkpoint.of(world))
 
 
+@pytest.mark.parametrize("ending", ["\n", "\r\n"])
+def test_blank_lines_and_windows_line_ends_cost_nothing_but_themselves(written, tmp_path,
+                                                                       ending):
+    """Each line followed by a blank line (empty, of spaces, of a carriage return, of each
+    white space a line may hold and still hold nothing), each ending in \\n or \\r\\n: the
+    regular expression of the program's own lines without white space reads every block
+    (no other pattern, no JSON block reader, no line on its own), and the replay is the one
+    the file without them gives."""
+    blanks = itertools.cycle(["", "  ", "\r", " \t\r\x0b\x0c"])
+    path = tmp_path / "blank.json"
+    path.write_bytes("".join(line + ending + next(blanks) + "\n"
+                             for line in written.read_text().splitlines()).encode())
+    with mock.patch.object(canonical, "_compiled", wraps=canonical._compiled) as patterns:
+        replay, by_json, alone = _read_counting(path)
+    assert replay == load(written) and by_json == alone == 0
+    assert {call.args for call in patterns.call_args_list} == {(canonical.OWN, b"")}
+
+
 def test_a_carriage_return_inside_a_line_is_white_space_on_the_json_path_too(written,
                                                                             tmp_path):
     """What the fuzzer found: fields in another order (so the JSON parser reads every line)

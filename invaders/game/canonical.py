@@ -4,8 +4,9 @@ Reading a replay near the size limit (145,000 checkpoint lines) through the JSON
 check of every field and a Checkpoint object a line took 16 s and 520 MB. The lines this
 program writes all have one shape, so a block of them (64 KB, some 140 lines) is read by
 one regular expression and its fields taken a column at a time: about 9 microseconds a
-line. Only the shape is read here, and the one fact that needs no limit: each hash is the
-digest of its groups. The same lines with every object's fields sorted (as tools that sort
+line (ending in a newline, or in a carriage return and a newline as Windows ends lines).
+Only the shape is read here, and the one fact that needs no limit: each hash is the digest
+of its groups. The same lines with every object's fields sorted (as tools that sort
 them write them) or in an order learnt from the file (Orders), with white space between
 tokens or not, are read by a pattern of their order; lines whose fields are in any order (a
 hostile file may change it every line), by one pattern that takes each object's fields in
@@ -50,8 +51,7 @@ COLUMNS = ("runs", "inputs", "tick", "hash", "score", "ships", "wave",
 # sooner: 1.27x over the blocks of a spaced file, 1.45x over those of a file with an order
 # of fields a line read by ANY (medians of 9 and 7 rounds in turn, a script).
 _POSSESSIVE = b"+" if sys.version_info >= (3, 11) else b""
-# White space anywhere JSON allows it (as `json.dumps` writes by default, or a line ending
-# in \r\n).
+# White space anywhere JSON allows it (as `json.dumps` writes by default).
 _GAP = rb"[ \t\r]*" + _POSSESSIVE
 
 
@@ -96,7 +96,7 @@ def _shape(order: Order | None) -> bytes:
         "inputs": _value("inputs", rb"\[~%s~\]" % _value("runs", rb"(?:%s(?:~,~%s)*)?" % (
             _RUN, _RUN))),  # (the runs, maybe none; the inputs never empty, if there)
         "checkpoint": _object(checkpoint_fields, checkpoint, "checkpoint_at")}
-    return rb"^~%s~$" % _object(line_fields, line)
+    return rb"^~%s~\r?$" % _object(line_fields, line)  # (\r\n: a line as Windows ends it)
 
 
 # In ANY's pattern, each object a line may write again: its name, the mark of where it

@@ -136,6 +136,7 @@ def _read_block(block: bytes, orders: canonical.Orders) -> canonical.Block | Non
     out of their lines first, else by the JSON block reader; None if neither takes it. (A
     single line the regular expressions do not take is read on its own: for one line the
     JSON block reader's columns cost more than a line's field checks.)"""
+    block = _without_blank_lines(block)
     if _LAB not in block:
         read = canonical.read_block(block, orders)
     elif (cut := cut_switches(block)) is not None:
@@ -150,6 +151,19 @@ def _read_block(block: bytes, orders: canonical.Orders) -> canonical.Block | Non
 
 
 _LAB = b'"lab"'
+
+
+def _without_blank_lines(block: bytes) -> bytes:
+    """The block without the lines that hold nothing, which every reader skips (a line of
+    white space, as `bytes.strip` has it, alone): so a file with a blank line after each
+    is read by the regular expressions as the same without them."""
+    if _BLANK_LINES.search(block):
+        block = _BLANK_LINES.sub(b"\n", block)
+    return block[_FIRST_BLANK_LINES.match(block).end():]  # (the same block, if none)
+
+
+_BLANK_LINES = re.compile(rb"\n(?:[ \t\r\x0b\x0c]*\n)+")  # (a newline first: found fast)
+_FIRST_BLANK_LINES = re.compile(rb"(?:[ \t\r\x0b\x0c]*\n)*")
 
 
 def _switches_taken(listed: list[tuple[int, Any]], bounds: list[int],
