@@ -452,6 +452,32 @@ def test_a_version_1_file_may_spread_its_one_object_over_lines(tmp_path):
         load(pretty)
 
 
+@pytest.mark.parametrize("version", [1, 2])
+def test_a_byte_order_mark_before_the_first_line_is_skipped_and_nowhere_else(
+        replay_file, tmp_path, version):
+    """As editors on Windows save text (JSON's standard lets a reader skip the mark): a
+    version-2 file, or a version-1 object spread over lines, with the mark first reads as
+    the file without it; the mark anywhere else is refused (naming its line in version 2;
+    a version-1 object whose first line is no whole object is named by that line)."""
+    plain = tmp_path / "plain.json"
+    if version == 1:
+        replay = record_headless(World(seed=2), Autopilot(2), 240)
+        plain.write_text(json.dumps({
+            "format": "invaders-replay", "version": 1, "program": "invaders test",
+            "seed": replay.seed, "config": dataclasses.asdict(replay.config),
+            "ticks": replay.ticks, "inputs": replay.inputs.lists(),
+            "checkpoints": [dataclasses.asdict(c) for c in replay.checkpoints]}, indent=2))
+    else:
+        plain.write_text(Path(replay_file).read_text())
+    marked, inside = tmp_path / "marked.json", tmp_path / "inside.json"
+    lines = plain.read_text().splitlines(keepends=True)
+    marked.write_text("\ufeff" + "".join(lines), encoding="utf-8")
+    inside.write_text("".join([*lines[:2], "\ufeff", *lines[2:]]), encoding="utf-8")
+    assert load(marked) == load(plain)
+    with pytest.raises(ReplayError, match="line 3" if version == 2 else "line 1: invalid"):
+        load(inside)
+
+
 def test_update_goes_on_past_a_file_it_cannot_write_and_sums_up(tmp_path, monkeypatch, capsys):
     """A full disk on the first file: the second is still updated, the summary printed,
     exit 2 (it stopped at the first, the second never updated, no summary)."""

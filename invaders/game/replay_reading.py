@@ -268,10 +268,14 @@ def _read(handle: BinaryIO, size: int) -> Replay:
 def _first_line(handle: BinaryIO, size: int) -> tuple[int, str]:
     """The first line that holds something, and its number, bounded before it is decoded
     (as a header or a whole version-1 file). A last line with no newline (a write that was
-    interrupted) is left out, unless it is the file's first."""
+    interrupted) is left out, unless it is the file's first. A byte order mark before the
+    file's first line is skipped, as JSON's standard lets a reader do (editors on Windows
+    write one)."""
     limit, number = _first_line_limit(size), 0
     while raw := handle.readline(limit + 1):
         number += 1
+        if number == 1:
+            raw = raw.removeprefix(_BOM)
         whole = raw.endswith(b"\n")
         if not whole and len(raw) > limit:
             rest, whole = _skip_line(handle)
@@ -284,6 +288,8 @@ def _first_line(handle: BinaryIO, size: int) -> tuple[int, str]:
             return number, text
     raise ReplayError("the file is empty")
 
+
+_BOM = "\ufeff".encode()
 
 BLOCK_BYTES = 2**16  # some 140 of the program's lines
 
@@ -345,7 +351,7 @@ def _one_object(handle: BinaryIO, size: int) -> dict | None:
     if size > MAX_V1_BYTES:
         return None
     handle.seek(0)
-    text = handle.read(MAX_V1_BYTES + 1).decode("utf-8", "replace")
+    text = handle.read(MAX_V1_BYTES + 1).removeprefix(_BOM).decode("utf-8", "replace")
     if not text.lstrip().startswith("{"):
         return None
     try:
