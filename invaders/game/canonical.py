@@ -73,11 +73,12 @@ def _object(fields: dict[str, bytes], names: tuple[str, ...] | None, at: str = "
     pairs = [b'"%s"~:~%s' % (name.encode(), fields[name]) for name in names or fields]
     if names is not None:
         return rb"\{~%s~\}" % b"~,~".join(pairs)
-    # Fields, each any of them, each followed by a comma (but not before the brace) or the
-    # brace. A field written again: its group keeps the last, as JSON does. The empty
-    # group `at` marks where the object starts (its last start, if it is written again;
-    # see _whole_objects). (Possessive, as the gap.)
-    return rb"%s\{(?:~(?:%s)~(?:,(?!~\})|(?=\})))+%s\}" % (
+    # Fields, each any of them, each followed by a comma or the brace, and no comma just
+    # before the brace (looked at once, at the brace, not after each comma). A field
+    # written again: its group keeps the last, as JSON does. The empty group `at` marks
+    # where the object starts (its last start, if it is written again; see
+    # _whole_objects). (Possessive, as the gap.)
+    return rb"%s\{(?:~(?:%s)~(?:,|(?=\})))+%s(?<!,)\}" % (
         _value(at, b"") if at else b"", b"|".join(pairs), _POSSESSIVE)
 
 
