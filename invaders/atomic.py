@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import itertools
 import os
 import stat
 import tempfile
@@ -51,6 +52,44 @@ def write_atomic(path: str | os.PathLike[str], text: str) -> None:
     """Replace `path` with `text` atomically."""
     with atomic_writer(path) as handle:
         handle.write(text)
+
+
+def write_new(path: str | os.PathLike[str], text: str) -> Path:
+    """Write `text` atomically as `path`, or, where a file already has that name, as the
+    first free one of `stem-2.suffix`, `stem-3.suffix`...: never over another file, even
+    one a writer in another process names at the same moment. The path written."""
+    target = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=temporary_prefix(target), suffix=TEMPORARY_SUFFIX,
+                               dir=target.parent if str(target.parent) else Path("."))
+    _usual_permissions(fd)
+    try:
+        with os.fdopen(fd, "w", newline="") as handle:
+            handle.write(text)
+            handle.flush()
+            os.fsync(handle.fileno())
+        names = (target.with_stem(f"{target.stem}-{number}") if number > 1 else target
+                 for number in itertools.count(1))
+        return next(name for name in names if _claim(tmp, name))
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+
+
+def _claim(written: str, name: Path) -> bool:
+    """Give the written file `name` too, if no file has it yet (False if one has). A hard
+    link takes a name only if it is free; where the file system has none, the name is
+    taken empty first, then filled by a rename over it."""
+    try:
+        os.link(written, name)
+    except FileExistsError:
+        return False
+    except OSError:  # (no hard links here)
+        try:
+            os.close(os.open(name, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+        except FileExistsError:
+            return False
+        os.replace(written, name)
+    return True
 
 
 @contextlib.contextmanager

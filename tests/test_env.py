@@ -4,6 +4,8 @@ add up to the score, and every episode a replay that checks."""
 
 from __future__ import annotations
 
+import errno
+import os
 import random
 
 import gymnasium
@@ -16,6 +18,7 @@ from gymnasium.utils.env_checker import check_env
 import invaders.env  # noqa: F401  (registers the id)
 from invaders.app.cli import main
 from invaders.app.render import Renderer
+from invaders.atomic import write_new
 from invaders.env.observations import STATE_FIELDS, STATE_SIZE
 from invaders.env.space_invaders import MINIMAL_ACTIONS, SpaceInvadersEnv
 from invaders.game.actions import Action
@@ -216,10 +219,56 @@ def test_every_episode_is_a_replay_that_checks(tmp_path, capsys):
     assert capsys.readouterr().out.count("ok ") == 2
 
 
+def test_recording_never_writes_over_an_episode_already_there(tmp_path):
+    """Two runs of the same seeds into one folder (a script run twice): the second run's
+    episodes get names of their own; every file is kept, and each is its own run's."""
+    runs = []
+    for actions in (1, 3):  # (FIRE, then LEFT: two different episodes of the same seed)
+        env = SpaceInvadersEnv(obs_type="state", record=tmp_path)
+        env.reset(seed=5)
+        for _ in range(100):
+            env.step(actions)
+        env.close()
+        runs.append(sorted(tmp_path.glob("*.json")))
+    (first,), both = runs
+    (second,) = set(both) - {first}
+    assert second.name == first.name.replace(".json", "-2.json")
+    assert load(first).seed == load(second).seed
+    assert list(load(first).actions()) != list(load(second).actions())
+
+
+@pytest.mark.parametrize("folder", ["", "a-file/episodes"])
+def test_a_record_folder_that_cannot_take_episodes_fails_before_any_play(tmp_path, folder):
+    """An empty name, or a folder inside a file: refused when the environment is made,
+    not after its first episode's play."""
+    (tmp_path / "a-file").write_text("not a folder")
+    error = ValueError if not folder else OSError
+    with pytest.raises(error, match="record ''" if not folder else "a-file"):
+        SpaceInvadersEnv(obs_type="state", record=str(tmp_path / folder) if folder else "")
+
+
+def test_a_new_file_takes_the_first_free_name_even_without_hard_links(tmp_path, monkeypatch):
+    """write_new never replaces a file: with hard links (which take only a free name) and
+    on a file system without them (the name taken empty first, then filled)."""
+    (tmp_path / "game.json").write_text("kept")
+    assert write_new(tmp_path / "game.json", "second") == tmp_path / "game-2.json"
+
+    def no_links(*_):
+        raise OSError(errno.EPERM, "no hard links here")
+
+    monkeypatch.setattr(os, "link", no_links)
+    assert write_new(tmp_path / "game.json", "third") == tmp_path / "game-3.json"
+    assert write_new(tmp_path / "new.json", "fourth") == tmp_path / "new.json"
+    assert {p.name: p.read_text() for p in tmp_path.iterdir()} == {
+        "game.json": "kept", "game-2.json": "second", "game-3.json": "third",
+        "new.json": "fourth"}
+
+
 def test_games_on_workers_record_their_episodes_when_closed(tmp_path, capsys):
     """Each game records where it runs; closing the vector closes every game (its last
     episode written) and ends the workers, several times over (an ended worker's pipe
-    says nothing more)."""
+    says nothing more). Each run's 6 episodes are kept beside the runs' before (the same
+    seeds: the same names, numbered on)."""
     folder = tmp_path / "episodes"
     for _ in range(4):
         envs = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
@@ -230,9 +279,9 @@ def test_games_on_workers_record_their_episodes_when_closed(tmp_path, capsys):
             envs.step(np.array([1, 2, 3]))
         envs.close()
     files = sorted(folder.glob("*.json"))
-    assert sorted(load(f).ticks for f in files)[::3] == [36, 200]  # (the same 6 each time)
-    assert len(files) == 6 and main(["replay", str(folder)]) == 0
-    assert capsys.readouterr().out.count("ok ") == 6
+    assert sorted(load(f).ticks for f in files) == [36] * 12 + [200] * 12
+    assert main(["replay", str(folder)]) == 0
+    assert capsys.readouterr().out.count("ok ") == 24
 
 
 def test_a_worker_killed_is_said_at_the_next_step_and_closing_still_closes(tmp_path):

@@ -11,7 +11,9 @@ objects, and every episode written as a replay that `invaders replay` checks.
 from __future__ import annotations
 
 import functools
+import os
 import random
+import tempfile
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -19,7 +21,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from invaders.atomic import write_atomic
+from invaders.atomic import write_new
 from invaders.engine.stats import CollisionStats
 from invaders.env.observations import (
     STATE_HIGH,
@@ -82,7 +84,7 @@ class SpaceInvadersEnv(gym.Env):
         self._state = np.zeros(STATE_SIZE, np.float32)
         self._shown: PixelObserver | None = None  # for render(), when observations are not RGB
         self._window = None
-        self._record = Path(record) if record is not None else None
+        self._record = _record_folder(record)
         self._replay: Replay | None = None
         self._episodes = 0
         self.frame_number = 0
@@ -239,9 +241,8 @@ class SpaceInvadersEnv(gym.Env):
         if replay.checkpoints[-1].tick != world.tick:
             replay.checkpoints.append(Checkpoint.of(world))
         self._episodes += 1
-        self._record.mkdir(parents=True, exist_ok=True)
         name = f"episode-{self._episodes:05d}-seed-{replay.seed}.json"
-        write_atomic(self._record / name, "".join(replay.lines()))
+        write_new(self._record / name, "".join(replay.lines()))  # (never over another's)
 
     def _show(self, picture: np.ndarray) -> None:
         import pygame
@@ -272,6 +273,22 @@ def _check_options(obs_type: str, frameskip: Any, repeat_action_probability: flo
         raise ValueError(f"stack {stack!r}: 1 to 64 pictures (not with the state)")
     if render_mode not in (None, *SpaceInvadersEnv.metadata["render_modes"]):
         raise ValueError(f"render_mode {render_mode!r}: None, 'human' or 'rgb_array'")
+
+
+def _record_folder(record: str | Path | None) -> Path | None:
+    """The folder episodes are recorded in, made now and tried with a file written and
+    removed, so a folder that cannot take them fails here (an OSError naming it), not after
+    the first episode's play; None: no recording."""
+    if record is None:
+        return None
+    if not str(record):
+        raise ValueError("record '': a folder to write episodes in, or None")
+    folder = Path(record)
+    folder.mkdir(parents=True, exist_ok=True)
+    fd, tried = tempfile.mkstemp(prefix=".episode.", dir=folder)
+    os.close(fd)
+    os.unlink(tried)
+    return folder
 
 
 def _valid_skip(frameskip: Any) -> bool:
