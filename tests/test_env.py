@@ -397,6 +397,35 @@ def test_async_vector_environments_and_gymnasiums_frame_stacking_work_on_it():
         frames[-1], stacked.unwrapped._pixels.out)
 
 
+@pytest.mark.parametrize("obs_type", ["rgb", "grayscale"])
+def test_gymnasiums_own_grey_resize_and_stack_wrappers_work_on_it(obs_type):
+    """As Atari agents wrap ALE's environment: Gymnasium's GrayscaleObservation (for the
+    RGB picture), ResizeObservation (OpenCV's area shrink, to 84x84) and
+    FrameStackObservation (4). Each step's newest frame is the wrappers' own work on the
+    picture the environment just drew, pixel for pixel, the older ones the steps before."""
+    from gymnasium.wrappers import (
+        FrameStackObservation,
+        GrayscaleObservation,
+        ResizeObservation,
+    )
+
+    env = gymnasium.make(ENV_ID, obs_type=obs_type)
+    grey = GrayscaleObservation(env) if obs_type == "rgb" else env
+    shrunk = ResizeObservation(grey, (84, 84))
+    stacked = FrameStackObservation(shrunk, stack_size=4)
+    assert stacked.observation_space.shape == (4, 84, 84)
+    frames, _ = stacked.reset(seed=3)
+    seen = []
+    for action in (1, 2, 2, 3, 1, 0):
+        frames, *_ = stacked.step(action)
+        picture = env.unwrapped._pixels.out
+        newest = shrunk.observation(grey.observation(picture) if obs_type == "rgb" else picture)
+        assert stacked.observation_space.contains(frames)
+        assert np.array_equal(frames[-1], newest) and newest.max() > 0
+        seen.append(newest)
+    assert all(np.array_equal(a, b) for a, b in zip(frames, seen[-4:], strict=True))
+
+
 def _area_average(picture: np.ndarray, height: int, width: int) -> np.ndarray:
     """The definition, pixel by pixel, in whole numbers: each output pixel the mean of the
     input area it covers, pixels cut by its edges weighted by the part inside, rounded half
