@@ -337,6 +337,45 @@ def test_bad_options_are_refused_in_one_line():
             SpaceInvadersEnv(**options)
 
 
+def test_an_episode_cut_short_is_truncated_not_terminated():
+    """ALE's two limits: `gymnasium.make`'s max_episode_steps (its TimeLimit) and the
+    environment's own max_num_frames_per_episode (frames, as ALE counts them: 40 are 10
+    steps of 4)."""
+    by_steps = gymnasium.make(ENV_ID, obs_type="state", max_episode_steps=10)
+    by_frames = gymnasium.make(ENV_ID, obs_type="state", max_num_frames_per_episode=40)
+    for env in (by_steps, by_frames):
+        env.reset(seed=1)
+        steps = [env.step(0) for _ in range(10)]
+        assert [step[2:4] for step in steps] == [(False, False)] * 9 + [(False, True)]
+        assert steps[-1][4]["episode_frame_number"] == 40
+
+
+def test_gymnasiums_module_form_makes_it_in_a_process_that_never_imported_it():
+    import subprocess
+    import sys
+
+    code = ('import gymnasium; env = gymnasium.make("invaders.env:invaders/SpaceInvaders-v0",'
+            ' obs_type="state"); print(env.reset(seed=0)[0].shape, env.spec.id)')
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True, env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
+    assert done.stdout.split() == [f"({STATE_SIZE},)", ENV_ID]
+
+
+def test_human_rendering_shows_each_step_in_a_window_three_times_the_size():
+    """render_mode="human" (SDL's dummy driver here): after each step the window holds the
+    RGB picture of the world, every pixel a 3x3 square."""
+    env = gymnasium.make(ENV_ID, obs_type="state", render_mode="human")
+    env.reset(seed=2)
+    for action in (1, 2, 2):
+        env.step(action)
+        window = pygame.display.get_surface()
+        shown = pygame.surfarray.array3d(window).transpose(1, 0, 2)
+        assert window.get_size() == (224 * 3, 256 * 3)
+        assert np.array_equal(shown[1::3, 1::3], _picture_in_the_window(env.unwrapped.world))
+    env.close()
+    assert not pygame.display.get_init()
+
+
 def test_render_gives_the_rgb_picture_whatever_the_observation():
     env = SpaceInvadersEnv(obs_type="state", render_mode="rgb_array")
     _play(env, 6, 50)
