@@ -6,12 +6,13 @@ json.dumps' default spacing, with a lab switch every 500 lines (cut out of its l
 rest read by the regular expressions), with its fields sorted (as tools that sort them
 write them), in reverse order (an order learnt from the first block), in an order of their
 own on every line and with every name and digest escaped, with its counts written twice on
-every line (as only hostile files are: the pattern of any order reads them), and with the
-most lab switches a replay may hold, one a line from the start or spread through the file
-as far apart as they go; and four hostile ones: a header holding 64 MB of empty objects,
-of fractions or of fields, and 64 MB of lab switches. Each round reads each in a fresh
-process, taking turns; printed: the seconds `load` took and the process's peak memory,
-medians over the rounds with their spread, against the goal of 2 s and 100 MB.
+every line (as only hostile files are: the pattern of any order reads them), with the most
+lab switches a replay may hold, one a line from the start or spread through the file as
+far apart as they go, and with the most input runs (a tick each); and four hostile ones: a
+header holding 64 MB of empty objects, of fractions or of fields, and 64 MB of lab
+switches. Each round reads each in a fresh process, taking turns; printed: the seconds
+`load` took and the process's peak memory, medians over the rounds with their spread,
+against the goal of 2 s and 100 MB.
 """
 
 from __future__ import annotations
@@ -28,7 +29,8 @@ from pathlib import Path
 from typing import Any
 
 from invaders.app.recording import record_headless, save_replay
-from invaders.game.replay import MAX_FILE_BYTES, MAX_SWITCHES
+from invaders.game.actions import Action
+from invaders.game.replay import MAX_FILE_BYTES, MAX_RUNS, MAX_SWITCHES
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
 
@@ -121,6 +123,26 @@ def reversed_fields(value: Any) -> Any:
     if isinstance(value, dict):
         return {key: reversed_fields(item) for key, item in reversed(value.items())}
     return value
+
+
+def most_runs(source: Path, path: Path, size: int = MAX_FILE_BYTES) -> int:
+    """Write `source`'s lines to `path` with as many input runs as a replay may hold (a
+    player's fingers are busier than the autopilot's): each line's inputs, from the first,
+    split into runs of a tick each, fire and nothing in turn, while the whole file's runs
+    stay within the limit; as many whole lines as fit in `size` bytes. Returns the ticks."""
+    with source.open() as lines:
+        spare = MAX_RUNS - sum(len(json.loads(line).get("inputs", ())) for line in lines)
+
+    def split(value: Any) -> Any:
+        nonlocal spare
+        runs = value.get("inputs", [])
+        ticks = sum(count for _, count in runs)
+        if runs and ticks - len(runs) <= spare:
+            spare -= ticks - len(runs)
+            value["inputs"] = [[int(Action.FIRE) * (tick % 2), 1] for tick in range(ticks)]
+        return value
+
+    return rewritten(source, path, size, split, separators=(",", ":"))
 
 
 def with_switches(source: Path, path: Path, every: int = 500, size: int = MAX_FILE_BYTES,
@@ -227,6 +249,8 @@ def reading_bench(rounds: int, size: int = MAX_FILE_BYTES) -> tuple[list[str], b
         with longest.open() as lines:
             every = max(1, sum(1 for _ in lines) // MAX_SWITCHES)
         spread_ticks = with_switches(longest, spread, every, size, most=MAX_SWITCHES)
+        busy = folder / "most-runs.json"
+        busy_ticks = most_runs(longest, busy, size)
         with_switches(longest, flood, 1, size, each=1000, choice=_PADDED)
         compact = {"separators": (",", ":")}
         ordered_ticks = rewritten(longest, ordered, size, sort_keys=True, **compact)
@@ -246,6 +270,7 @@ def reading_bench(rounds: int, size: int = MAX_FILE_BYTES) -> tuple[list[str], b
                  f"the same, its counts twice a line ({twice_ticks:,})": twice,
                  f"the same, {MAX_SWITCHES:,} lab switches first ({most_ticks:,})": most,
                  f"the same, {MAX_SWITCHES:,} lab switches spread ({spread_ticks:,})": spread,
+                 f"the same, the most input runs ({busy_ticks:,})": busy,
                  **hostile_headers(folder, longest.open().readline().rstrip("\n"), size),
                  f"{size / 2**20:.4g} MB of lab switches": flood}
         seen: dict[str, list[tuple[float, float, int | None]]] = {n: [] for n in files}
