@@ -190,6 +190,15 @@ EDITS = {  # one line changed: what the regular expressions must not read otherw
     "a byte of no text": (r'(?<=[0-9a-f])0(?=[0-9a-f]*")', "\x80", "refused"),  # (no UTF-8)
     "a comma before a brace": (r'"saucer":(\d+)}', r'"saucer":\1,}', "refused"),
     "a 19-digit number": (r'"score":\d+', f'"score":{2**63 - 1}', "read"),
+    "a run's count past 64 bits": (r'"inputs":\[\[(\d+),\d+\]', r'"inputs":[[\1,' + "9" * 19
+                                   + "]", "refused"),
+    "a run's count of 63 bits": (r'"inputs":\[\[(\d+),\d+\]', rf'"inputs":[[\1,{2**63 - 1}]',
+                                 "refused"),
+    "runs past 64 bits, their sum wrapping to the line's 60 ticks": (
+        r'"inputs":\[\[.*?\]\],', f'"inputs":[[0,{"9" * 19}],[4,{"9" * 19}],[0,62]],',
+        "refused"),
+    "a run's bits past 64 bits": (r'"inputs":\[\[\d+,', r'"inputs":[[' + "9" * 19 + ",",
+                                  "refused"),
     "one too big": (r'"score":\d+', f'"score":{2**63}', "refused"),
     "a minus": (r'"wave":(\d+)', r'"wave":-\1', "refused"),
     "a minus in a digest": (r'(?<=[0-9a-f])0(?=[0-9a-f]*")', "-0", "refused"),

@@ -23,6 +23,8 @@ from itertools import accumulate, chain, repeat
 from operator import itemgetter
 from typing import Any
 
+import numpy as np
+
 from invaders.game.canonical import Block, hashed
 from invaders.game.checkpoint import COUNT_NAMES, VALUES_TEXT
 from invaders.game.replay_checks import no_constant, no_fraction, overfull
@@ -92,9 +94,10 @@ def _whole(numbers: list[Any]) -> list[int]:
     return numbers
 
 
-def _runs(inputs: tuple[Any, ...]) -> tuple[list[int], list[int], list[int]]:
-    """Every input run's bits and count in order, and the ticks they cover up to each
-    line's end, when each line's inputs are [bits, count] pairs of whole numbers."""
+def _runs(inputs: tuple[Any, ...]) -> tuple[np.ndarray, np.ndarray, list[int]]:
+    """Every input run's bits and count in order (64-bit integers, as canonical.py gives
+    them), and the ticks they cover up to each line's end, when each line's inputs are
+    [bits, count] pairs of whole numbers that fit 64 bits."""
     if {*map(type, inputs)} != {list}:
         raise _NotTaken
     runs = [*chain.from_iterable(inputs)]
@@ -102,7 +105,11 @@ def _runs(inputs: tuple[Any, ...]) -> tuple[list[int], list[int], list[int]]:
         raise _NotTaken
     bits, counts = _whole([*map(itemgetter(0), runs)]), _whole([*map(itemgetter(1), runs)])
     covered = [0, *accumulate(counts)]
-    return bits, counts, [covered[end] for end in accumulate(map(len, inputs))]
+    try:
+        columns = np.array(bits, np.int64), np.array(counts, np.int64)
+    except OverflowError:
+        raise _NotTaken from None
+    return *columns, [covered[end] for end in accumulate(map(len, inputs))]
 
 
 def _checkpoints(checkpoints: tuple[Any, ...]) -> tuple[list[int], list[bytes], list[bytes]]:

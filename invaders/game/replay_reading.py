@@ -121,8 +121,8 @@ def _block(block: bytes, total: int, runs: Runs, checkpoints: Checkpoints,
     good = (read.longest <= MAX_LINE_BYTES
             and len(runs) + len(read.bits) <= MAX_RUNS
             and ends == read.ticks and ends[-1] <= MAX_TICKS
-            and min(read.counts, default=1) > 0
-            and not any(map(_UNKNOWN_BITS.__and__, read.bits))
+            and not (read.counts <= 0).any()
+            and not (read.bits & _UNKNOWN_BITS).any()
             and _switches_taken(read.switches, [total, *ends], switches))
     if not good:
         return None

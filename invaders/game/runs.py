@@ -8,7 +8,7 @@ the last one lengthens it), so equal inputs are stored one way only.
 from __future__ import annotations
 
 from array import array
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sequence
 
 import numpy as np
 
@@ -30,9 +30,10 @@ class Runs:
             self._bits.append(bits)
             self._counts.append(count)
 
-    def extend(self, bits: list[int], counts: list[int]) -> None:
+    def extend(self, bits: Sequence[int] | np.ndarray, counts: Sequence[int] | np.ndarray
+               ) -> None:
         """Many runs at once (a block of a replay's lines), merged as `add` merges them."""
-        if not bits:
+        if len(bits) == 0:
             return
         bits_array = np.array(bits, np.uint64)
         starts = np.concatenate(([0], np.flatnonzero(np.diff(bits_array)) + 1))  # new bits
