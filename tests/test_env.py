@@ -237,6 +237,21 @@ def test_recording_never_writes_over_an_episode_already_there(tmp_path):
     assert list(load(first).actions()) != list(load(second).actions())
 
 
+def test_two_processes_recording_the_same_episode_keep_both(tmp_path):
+    """Gymnasium's async vector, both games seeded alike: each process writes the same
+    episode under the same name at the same moment; both files are kept, equal."""
+    envs = gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="async",
+                              obs_type="state", record=str(tmp_path),
+                              max_num_frames_per_episode=40)
+    envs.reset(seed=[7, 7])
+    for _ in range(10):
+        envs.step(np.array([1, 1]))
+    envs.close()
+    first, second = sorted(tmp_path.glob("*.json"), key=lambda path: len(path.name))
+    assert second.name == first.name.replace(".json", "-2.json")
+    assert first.read_text() == second.read_text() and load(first).ticks == 40
+
+
 @pytest.mark.parametrize("folder", ["", "a-file/episodes"])
 def test_a_record_folder_that_cannot_take_episodes_fails_before_any_play(tmp_path, folder):
     """An empty name, or a folder inside a file: refused when the environment is made,
