@@ -307,10 +307,10 @@ def _switched(objects: list[dict], lines: range) -> str:
     writes them."""
     for index in lines:
         objects[index]["lab"] = [[objects[index - 1]["checkpoint"]["tick"], {"speed": 1}]]
-    return "".join(segment_or_header(o) for o in objects)
+    return "".join(_json_line(o) for o in objects)
 
 
-def segment_or_header(data: dict) -> str:
+def _json_line(data: dict) -> str:
     """A line with its fields in the order they came (the program's, for its own lines)."""
     return json.dumps(data, separators=(",", ":")) + "\n"
 
@@ -398,7 +398,7 @@ def test_a_lab_switch_in_any_shape_is_read_as_json_reads_it(tmp_path, shape):
     members = {"I": '"inputs":' + json.dumps(objects[200]["inputs"], separators=(",", ":")),
                "C": checkpoint, "K": checkpoint[:-1],
                "L": '"lab":' + value % objects[199]["checkpoint"]["tick"]}
-    lines = [segment_or_header(o) for o in objects]
+    lines = [_json_line(o) for o in objects]
     lines[200] = re.sub("[ICKL]", lambda found: members[found[0]], template) + "\n"
     path = tmp_path / "lab.json"
     path.write_text("".join(lines))
