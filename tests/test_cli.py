@@ -96,6 +96,11 @@ def test_a_jsonl_report_has_one_object_per_tick(tmp_path, capsys):
     (["run", "--cell", "0"], "--cell"),
     (["play", "--scale", "99"], "--scale"),
     (["fly"], "fly"),
+    (["bench", "--reading", "--env"], "--env: not allowed with argument --reading"),
+    (["bench", "--window", "--against", "HEAD"], "--against: not allowed with argument"),
+    (["bench", "--reading", "--big"], "--big adds to the full bench; --reading runs instead"),
+    (["bench", "--env", "--ale"], "--ale adds to the full bench; --env runs instead"),
+    (["bench", "--against", "HEAD", "--largest", "10"], "--largest adds to the full bench"),
 ])
 def test_bad_input_is_one_line_naming_the_problem_and_exit_2(capsys, args, problem):
     code, out, err = _run(capsys, *args)

@@ -204,19 +204,22 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
                             "2,000 with --big)")
     bench.add_argument("--rounds", type=_int_in("--rounds", 3, 100), default=10,
                        help="interleaved rounds; figures are medians over them")
-    bench.add_argument("--env", action="store_true",
-                       help="instead, the Gymnasium environment against ALE's, step for step "
-                            "(needs the rl extra; ALE with the compare extra)")
-    bench.add_argument("--window", action="store_true",
-                       help="instead, a game in a real window: CPU seconds a second through "
-                            "SDL's native framebuffer and through a renderer (needs a display)")
-    bench.add_argument("--reading", action="store_true",
-                       help="instead, replay files at the 64 MB size limit read in fresh "
-                            "processes (the longest valid one and three hostile ones): "
-                            "seconds and peak memory against the goal of 2 s and 100 MB")
-    bench.add_argument("--against", metavar="REV",
-                       help="instead, this tree's game speed against a git revision's "
-                            "(checked out in a temporary worktree), game by game in turn")
+    instead = bench.add_mutually_exclusive_group()  # (one at a time: each runs alone)
+    instead.add_argument("--env", action="store_true",
+                         help="instead, the Gymnasium environment against ALE's, step for "
+                              "step (needs the rl extra; ALE with the compare extra)")
+    instead.add_argument("--window", action="store_true",
+                         help="instead, a game in a real window: CPU seconds a second "
+                              "through SDL's native framebuffer and through a renderer (needs "
+                              "a display)")
+    instead.add_argument("--reading", action="store_true",
+                         help="instead, replay files at the 64 MB size limit read in fresh "
+                              "processes (the longest valid one, the same in the other "
+                              "shapes a file may take, and four hostile ones): seconds and "
+                              "peak memory against the goal of 2 s and 100 MB")
+    instead.add_argument("--against", metavar="REV",
+                         help="instead, this tree's game speed against a git revision's "
+                              "(checked out in a temporary worktree), game by game in turn")
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -347,6 +350,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
 def cmd_bench(args: argparse.Namespace) -> int:
     from invaders.app.headless import use_dummy_drivers
 
+    _only_for_the_full_bench(args)
     if args.window:  # (before the dummy drivers: this one needs the real display)
         from invaders.app.windowbench import NoWindow, window_bench
 
@@ -388,6 +392,18 @@ def cmd_bench(args: argparse.Namespace) -> int:
     if args.ale:  # the environment against ALE's own, as section 6
         code = max(code, _env_table(args.rounds, section=True))
     return code
+
+
+def _only_for_the_full_bench(args: argparse.Namespace) -> None:
+    """--ale, --big and --largest add to the full bench: refused beside a bench that runs
+    instead of it, which would leave them unused without a word."""
+    instead = next((f"--{name}" for name in ("env", "window", "reading", "against")
+                    if getattr(args, name) not in (False, None)), None)
+    added = next((flag for flag, given in (("--ale", args.ale), ("--big", args.big),
+                                           ("--largest", args.largest is not None)) if given),
+                 None)
+    if instead and added:
+        raise UsageError(f"{added} adds to the full bench; {instead} runs instead of it")
 
 
 def _env_table(rounds: int, section: bool = False) -> int:
