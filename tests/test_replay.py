@@ -219,6 +219,20 @@ def test_each_bad_file_gets_one_line_naming_file_and_problem(replay_file, tmp_pa
     assert str(path) in err and problem in err
 
 
+def test_a_path_that_names_no_replay_is_said_and_the_others_checked(replay_file, tmp_path,
+                                                                  capsys):
+    """A typo among the paths given: one line for it, each other file still checked (as a
+    file that cannot be read is), exit 2."""
+    empty, typo = tmp_path / "empty", tmp_path / "typo.json"
+    empty.mkdir()
+    code = main(["replay", str(typo), str(replay_file), str(empty)])
+    out, err = capsys.readouterr()
+    assert code == 2 and out.startswith(f"ok {replay_file}:")
+    assert err.splitlines() == [f"invaders: error: {typo}: no such file or folder",
+                                f"invaders: error: {empty}: no replay files (*.json) in this "
+                                "folder"]
+
+
 def test_missing_paths_empty_folders_truncated_and_invalid_files(replay_file, tmp_path,
                                                                  capsys):
     code, err = _error_of(capsys, str(tmp_path / "nothing.json"))

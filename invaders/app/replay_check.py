@@ -17,14 +17,15 @@ UPDATED = -1
 
 
 def check_all(args: list[str], update: bool = False, broadphase: str = DEFAULT_BROADPHASE) -> int:
-    """Exit code: 0 all passed, 1 some checkpoint differed, 2 some input was unusable."""
-    try:
-        paths = replay_paths(args)
-    except ReplayError as err:
-        print(f"invaders: error: {err}", file=sys.stderr)
-        return 2
-    worst = 0
-    changed = 0
+    """Exit code: 0 all passed, 1 some checkpoint differed, 2 some input was unusable (a
+    path that names no replay is said, and the others are checked all the same)."""
+    worst, changed, paths = 0, 0, []
+    for arg in args:
+        try:
+            paths += replay_paths(arg)
+        except ReplayError as err:
+            print(f"invaders: error: {err}", file=sys.stderr)
+            worst = 2
     for path in paths:
         try:
             replay = load(path)

@@ -41,25 +41,22 @@ __all__ = ["CHECKPOINT_EVERY", "FORMAT", "MAX_FILE_BYTES", "MAX_RUNS", "MAX_SWIT
            "load", "parse", "parse_lines", "replay_paths", "run", "segment_line"]
 
 
-def replay_paths(args: list[str]) -> list[Path]:
-    """Files named, and the *.json files of folders named, in order; ReplayError if none."""
-    paths: list[Path] = []
-    for arg in args:
-        path = Path(arg)
-        try:
-            is_dir, exists = path.is_dir(), path.exists()
-        except OSError as err:
-            raise ReplayError(f"{arg[:80]}: {err.strerror}") from None
-        if is_dir:
-            found = sorted(p for p in path.glob("*.json") if p.is_file())
-            if not found:
-                raise ReplayError(f"{arg}: no replay files (*.json) in this folder")
-            paths.extend(found)
-        elif exists:
-            paths.append(path)
-        else:
-            raise ReplayError(f"{arg}: no such file or folder")
-    return paths
+def replay_paths(arg: str) -> list[Path]:
+    """The file named, or the *.json files of the folder named, in order; ReplayError if
+    there is none."""
+    path = Path(arg)
+    try:
+        is_dir, exists = path.is_dir(), path.exists()
+    except OSError as err:
+        raise ReplayError(f"{arg[:80]}: {err.strerror}") from None
+    if is_dir:
+        found = sorted(p for p in path.glob("*.json") if p.is_file())
+        if not found:
+            raise ReplayError(f"{arg}: no replay files (*.json) in this folder")
+        return found
+    if not exists:
+        raise ReplayError(f"{arg}: no such file or folder")
+    return [path]
 
 
 # --- running ----------------------------------------------------------------------------------
