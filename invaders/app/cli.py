@@ -117,15 +117,18 @@ def build_parser(command: str | None = None) -> Parser:
 
 def _add_play(sub: argparse._SubParsersAction) -> None:
     play = sub.add_parser("play", help="play in a window")
-    play.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0)
+    # (--seed, --players, --ticks and --speed default to None, so that one given where it
+    # would do nothing is told from one left out: _unused_play_flag.)
+    play.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1))
     play.add_argument("--scale", type=_int_in("--scale", 1, 8), default=3)
-    play.add_argument("--players", type=_int_in("--players", 1, 2), default=1,
+    play.add_argument("--players", type=_int_in("--players", 1, 2),
                       help="the game a recording or a screenshot starts with (in the "
                            "window, 1 or 2 starts either)")
     play.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE)
     play.add_argument("--screenshot", metavar="FILE", type=_named("--screenshot"),
                       help="run headless for --ticks with the autopilot, save the window as PNG")
-    play.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=600)
+    play.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS),
+                      help="with --screenshot: how long it plays (600 ticks by default)")
     play.add_argument("--overlay", action="store_true", help="start with the debug overlay on")
     play.add_argument("--mute", action="store_true", help="start with the sound off (M toggles)")
     play.add_argument("--attract", choices=("title", "table", "pull", "insert"),
@@ -135,8 +138,8 @@ def _add_play(sub: argparse._SubParsersAction) -> None:
                       help="record the game as a replay (JSON)")
     play.add_argument("--replay", metavar="FILE", type=_named("--replay"),
                       help="watch a replay instead of playing")
-    play.add_argument("--speed", type=_int_in("--speed", 1, 64), default=1,
-                      help="replay speed multiplier")
+    play.add_argument("--speed", type=_int_in("--speed", 1, 64),
+                      help="with --replay: its speed multiplier")
     _lab_arguments(play).add_argument(
         "--lab", action="store_true",
         help="open the lab panel beside the playfield (F4 in any game; a lab option opens it)")
@@ -306,12 +309,16 @@ def cmd_play(args: argparse.Namespace) -> int:
     from invaders.app.outputs import PICTURE_SUFFIXES, REPLAY_SUFFIXES, check_output
     from invaders.app.play import play, screenshot
 
+    unused = _unused_play_flag(args)
+    if unused is not None:
+        raise UsageError(unused)
+    seed, players = args.seed or 0, args.players or 1
     lab = _lab_choice(args) if args.lab or _lab_asked(args) else None
     if args.screenshot:
         check_output(args.screenshot, "screenshot", PICTURE_SUFFIXES)
-        return screenshot(args.screenshot, seed=args.seed, ticks=args.ticks, scale=args.scale,
-                          overlay=args.overlay, broadphase=args.broadphase,
-                          attract=args.attract, lab=lab, players=args.players)
+        return screenshot(args.screenshot, seed=seed, ticks=args.ticks or 600,
+                          scale=args.scale, overlay=args.overlay, broadphase=args.broadphase,
+                          attract=args.attract, lab=lab, players=players)
     replay = None
     if args.replay:
         from invaders.app.replay_check import check_switches
@@ -330,12 +337,26 @@ def cmd_play(args: argparse.Namespace) -> int:
     import pygame
 
     try:
-        return play(seed=args.seed, scale=args.scale, broadphase=args.broadphase,
-                    overlay=args.overlay, record=args.record, replay=replay, speed=args.speed,
-                    mute=args.mute, lab=lab, players=args.players)
+        return play(seed=seed, scale=args.scale, broadphase=args.broadphase,
+                    overlay=args.overlay, record=args.record, replay=replay,
+                    speed=args.speed or 1, mute=args.mute, lab=lab, players=players)
     except pygame.error as err:
         raise UsageError(f"cannot open a window ({err}); without a display, run the game "
                          "headless with 'invaders run'") from None
+
+
+def _unused_play_flag(args: argparse.Namespace) -> str | None:
+    """The first flag given that this way of playing would leave unused, and why (a flag
+    that does nothing without a word is a surprise); None if every one given is used."""
+    if args.screenshot:
+        mode, unused = "--screenshot plays a game of its own", ("replay", "record", "speed")
+    elif args.replay:
+        mode, unused = "--replay plays the game it holds", ("seed", "players", "ticks",
+                                                             "attract")
+    else:
+        mode, unused = "they are for --screenshot or --replay", ("ticks", "attract", "speed")
+    flag = next((name for name in unused if getattr(args, name) is not None), None)
+    return None if flag is None else f"--{flag} is not used here: {mode}"
 
 
 def cmd_replay(args: argparse.Namespace) -> int:
