@@ -96,6 +96,8 @@ def test_a_jsonl_report_has_one_object_per_tick(tmp_path, capsys):
     (["run", "--cell", "0"], "--cell"),
     (["play", "--scale", "99"], "--scale"),
     (["fly"], "fly"),
+    (["run", "--broadphase", "brute", "--cell", "16"],
+     "--cell is not used here: the brute broad phase has no cells"),
     (["play", "--attract", "title"], "--attract is not used here: they are for"),
     (["play", "--speed", "4"], "--speed is not used here"),
     (["play", "--ticks", "100"], "--ticks is not used here"),

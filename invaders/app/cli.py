@@ -157,8 +157,9 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                          f"{name} (default)" if name == "hunter" else name
                          for name in STYLES))
     run.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE)
-    run.add_argument("--cell", type=_int_in("--cell", 1, 1024), default=DEFAULT_CELL,
-                     help="cell size in px of the grid and of the broad phases built on its cells")
+    run.add_argument("--cell", type=_int_in("--cell", 1, 1024),  # (None: see cmd_run)
+                     help="cell size in px of the grid and of the broad phases built on its "
+                          f"cells ({DEFAULT_CELL} by default)")
     run.add_argument("--report", metavar="FILE", help="per-tick counters, .csv or .jsonl")
     lab = _lab_arguments(run)
     lab.add_argument("--shadow", action="store_true",
@@ -239,7 +240,10 @@ def cmd_run(args: argparse.Namespace) -> int:
         check_output(args.record, "replay", REPLAY_SUFFIXES)
     from invaders.game.world import World
 
-    world = World(seed=args.seed, broadphase=args.broadphase, cell=args.cell,
+    if args.cell is not None and args.broadphase not in choices.CELLED:
+        raise UsageError(f"--cell is not used here: the {args.broadphase} broad phase has no "
+                         "cells")
+    world = World(seed=args.seed, broadphase=args.broadphase, cell=args.cell or DEFAULT_CELL,
                   players=args.players)
     base = world.config
     lab = _lab_asked(args)
@@ -301,7 +305,7 @@ def _lab_choice(args: argparse.Namespace):
     from invaders.engine.grid import DEFAULT_CELL
     from invaders.lab.live import Choice
 
-    return Choice(args.broadphase, getattr(args, "cell", DEFAULT_CELL), args.quick,
+    return Choice(args.broadphase, getattr(args, "cell", None) or DEFAULT_CELL, args.quick,
                   args.thorough, args.motion, args.sample, args.speed_mult)
 
 
