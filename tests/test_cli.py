@@ -112,6 +112,8 @@ def test_a_jsonl_report_has_one_object_per_tick(tmp_path, capsys):
     (["bench", "--reading", "--big"], "--big adds to the full bench; --reading runs instead"),
     (["bench", "--env", "--ale"], "--ale adds to the full bench; --env runs instead"),
     (["bench", "--against", "HEAD", "--largest", "10"], "--largest adds to the full bench"),
+    (["bench", "--reading", "--ticks", "600"], "--ticks sets the game the full bench"),
+    (["bench", "--window", "--seed", "3"], "--seed sets the game the full bench and --against"),
 ])
 def test_bad_input_is_one_line_naming_the_problem_and_exit_2(capsys, args, problem):
     code, out, err = _run(capsys, *args)

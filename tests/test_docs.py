@@ -22,7 +22,6 @@ from invaders.app.cli import build_parser, main
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 BLOCK = re.compile(r"```(\w*)\n(.*?)```", re.S)
-BENCH_SMALLEST = ["--rounds", "3", "--ticks", "60"]
 INSTEAD = {"--env", "--window", "--reading", "--against"}  # (benches without sections)
 TIMED = ("bench", "study")  # their output is timings: the pages show one run of it
 
@@ -100,8 +99,11 @@ def test_every_command_on_the_page_runs_and_prints_what_the_page_shows(
             code, printed, _ = quick_study
         else:
             if command == "bench":  # --ale and --big take minutes (their own tests)
-                words = [w for w in words if w not in ("--ale", "--big")] + BENCH_SMALLEST
-                if not INSTEAD.intersection(words):
+                words = [w for w in words if w not in ("--ale", "--big")] + ["--rounds", "3"]
+                instead = INSTEAD.intersection(words)
+                if not instead - {"--against"}:  # (a game: the full bench's and --against's)
+                    words += ["--ticks", "60"]
+                if not instead:
                     words += ["--largest", "100"]  # (section 5's: the full bench's alone)
             monkeypatch.setattr(pygame.event, "get", ScriptedPlayer())
             code = main(words)

@@ -194,8 +194,12 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
 
 def _add_bench(sub: argparse._SubParsersAction) -> None:
     bench = sub.add_parser("bench", help="time the pipeline against references, as ratios")
-    bench.add_argument("--ticks", type=_int_in("--ticks", 60, MAX_TICKS), default=3600)
-    bench.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=7)
+    # (--ticks and --seed default to None, so that one given to a bench that does not play
+    # the game is told from one left out: _only_for_the_full_bench.)
+    bench.add_argument("--ticks", type=_int_in("--ticks", 60, MAX_TICKS),
+                       help="the game the bench plays (3600 ticks by default)")
+    bench.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1),
+                       help="its seed (7 by default)")
     bench.add_argument("--ale", action="store_true",
                        help="also time the Arcade Learning Environment's emulated Space "
                             "Invaders, and the Gymnasium environment against ALE's (needs "
@@ -376,6 +380,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
     from invaders.app.headless import use_dummy_drivers
 
     _only_for_the_full_bench(args)
+    ticks, seed = args.ticks or 3600, 7 if args.seed is None else args.seed
     if args.window:  # (before the dummy drivers: this one needs the real display)
         from invaders.app.windowbench import NoWindow, window_bench
 
@@ -398,7 +403,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
         from invaders.lab.against import AgainstError, against
 
         try:
-            return against(args.against, args.ticks, args.seed, args.rounds)
+            return against(args.against, ticks, seed, args.rounds)
         except AgainstError as err:
             raise UsageError(str(err)) from None
     if args.env:
@@ -409,7 +414,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
         if not available():
             raise UsageError("--ale needs ale-py: pip install -e '.[compare]'")
     try:
-        code = bench(ticks=args.ticks, seed=args.seed, rounds=args.rounds, ale=args.ale,
+        code = bench(ticks=ticks, seed=seed, rounds=args.rounds, ale=args.ale,
                      big=args.big, largest=args.largest)
     except BenchFailure as err:
         print(f"invaders: bench: {err}", file=sys.stderr)
@@ -420,8 +425,9 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 
 def _only_for_the_full_bench(args: argparse.Namespace) -> None:
-    """--ale, --big and --largest add to the full bench: refused beside a bench that runs
-    instead of it, which would leave them unused without a word."""
+    """--ale, --big and --largest add to the full bench, and --ticks and --seed set the game
+    it and --against play: each refused beside a bench that would leave it unused without a
+    word."""
     instead = next((f"--{name}" for name in ("env", "window", "reading", "against")
                     if getattr(args, name) not in (False, None)), None)
     added = next((flag for flag, given in (("--ale", args.ale), ("--big", args.big),
@@ -429,6 +435,11 @@ def _only_for_the_full_bench(args: argparse.Namespace) -> None:
                  None)
     if instead and added:
         raise UsageError(f"{added} adds to the full bench; {instead} runs instead of it")
+    game = next((flag for flag, given in (("--ticks", args.ticks), ("--seed", args.seed))
+                 if given is not None), None)
+    if instead not in (None, "--against") and game:
+        raise UsageError(f"{game} sets the game the full bench and --against play; "
+                         f"{instead} plays none")
 
 
 def _env_table(rounds: int, section: bool = False) -> int:
