@@ -113,6 +113,8 @@ def test_a_jsonl_report_has_one_object_per_tick(tmp_path, capsys):
     (["bench", "--env", "--ale"], "--ale adds to the full bench; --env runs instead"),
     (["bench", "--against", "HEAD", "--largest", "10"], "--largest adds to the full bench"),
     (["bench", "--reading", "--ticks", "600"], "--ticks sets the game the full bench"),
+    (["study", "--jobs", "2", "--scheduler", "tcp://127.0.0.1:8786"],
+     "--scheduler: not allowed with argument --jobs"),
     (["bench", "--window", "--seed", "3"], "--seed sets the game the full bench and --against"),
 ])
 def test_bad_input_is_one_line_naming_the_problem_and_exit_2(capsys, args, problem):

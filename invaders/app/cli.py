@@ -182,9 +182,10 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
     study.add_argument("--quick", action="store_true", help="a smaller matrix (under a minute)")
     study.add_argument("--big", action="store_true",
                        help="also a storm of 30,000 bodies in the scaling chart (minutes more)")
-    study.add_argument("--jobs", type=_int_in("--jobs", 1, 64), default=1,
+    where = study.add_mutually_exclusive_group()  # (a cluster has its own workers)
+    where.add_argument("--jobs", type=_int_in("--jobs", 1, 64), default=1,
                        help="run scenes in this many processes")
-    study.add_argument("--scheduler", metavar="ADDRESS",
+    where.add_argument("--scheduler", metavar="ADDRESS",
                        help="run scenes on a Dask cluster (the [study] extra)")
     study.add_argument("--out", metavar="FOLDER", default="study", type=_named("--out"),
                        help="where study.csv, scaling.csv and the charts go")
