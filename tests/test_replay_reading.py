@@ -610,5 +610,5 @@ def test_the_reading_bench_reads_the_valid_files_and_refuses_the_hostile_ones():
     rows = [line.split() for line in lines[1:]]
     verdicts = [row[row.index("s") - 2] for row in rows]  # (the word before the seconds)
     assert lines[0].startswith("reading files at the size limit (2,097,152 bytes), 1 rounds")
-    assert verdicts == ["read"] * 11 + ["refused"] * 4 and met, lines
-    assert [row[-1] for row in rows] == ["met"] * 15
+    assert verdicts == ["read"] * 12 + ["refused"] * 4 and met, lines
+    assert [row[-1] for row in rows] == ["met"] * 16

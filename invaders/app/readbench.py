@@ -8,11 +8,11 @@ write them), in reverse order (an order learnt from the first block), in an orde
 own on every line and with every name and digest escaped, with its counts written twice on
 every line (as only hostile files are: the pattern of any order reads them), with the most
 lab switches a replay may hold, one a line from the start or spread through the file as
-far apart as they go, and with the most input runs (a tick each); and four hostile ones: a
-header holding 64 MB of empty objects, of fractions or of fields, and 64 MB of lab
-switches. Each round reads each in a fresh process, taking turns; printed: the seconds
-`load` took and the process's peak memory, medians over the rounds with their spread,
-against the goal of 2 s and 100 MB.
+far apart as they go, with the most input runs (a tick each), and with lines ending in
+\\r\\n and a blank line after each; and four hostile ones: a header holding 64 MB of empty
+objects, of fractions or of fields, and 64 MB of lab switches. Each round reads each in a
+fresh process, taking turns; printed: the seconds `load` took and the process's peak
+memory, medians over the rounds with their spread, against the goal of 2 s and 100 MB.
 """
 
 from __future__ import annotations
@@ -90,6 +90,12 @@ def escaped(line: str) -> str:
 
 
 _WORD = re.compile(r'(?<=")\w+(?=")')
+
+
+def windows_lines(line: str) -> str:
+    """The line ending in \\r\\n, a blank line after it (the same replay, as an editor on
+    Windows may save it)."""
+    return line.rstrip("\n") + "\r\n\r\n"
 
 
 def counts_twice(line: str) -> str:
@@ -253,6 +259,8 @@ def reading_bench(rounds: int, size: int = MAX_FILE_BYTES) -> tuple[list[str], b
         busy_ticks = most_runs(longest, busy, size)
         with_switches(longest, flood, 1, size, each=1000, choice=_PADDED)
         compact = {"separators": (",", ":")}
+        windows = folder / "windows.json"  # (lines as an editor on Windows may save them)
+        windows_ticks = rewritten(longest, windows, size, spelling=windows_lines, **compact)
         ordered_ticks = rewritten(longest, ordered, size, sort_keys=True, **compact)
         reordered_ticks = rewritten(longest, reordered, size, reversed_fields, **compact)
         varied, spelt = folder / "varied.json", folder / "escaped.json"
@@ -271,6 +279,7 @@ def reading_bench(rounds: int, size: int = MAX_FILE_BYTES) -> tuple[list[str], b
                  f"the same, {MAX_SWITCHES:,} lab switches first ({most_ticks:,})": most,
                  f"the same, {MAX_SWITCHES:,} lab switches spread ({spread_ticks:,})": spread,
                  f"the same, the most input runs ({busy_ticks:,})": busy,
+                 f"the same, \\r\\n and a blank line after each ({windows_ticks:,})": windows,
                  **hostile_headers(folder, longest.open().readline().rstrip("\n"), size),
                  f"{size / 2**20:.4g} MB of lab switches": flood}
         seen: dict[str, list[tuple[float, float, int | None]]] = {n: [] for n in files}
