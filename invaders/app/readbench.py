@@ -279,7 +279,7 @@ def reading_bench(rounds: int, size: int = MAX_FILE_BYTES) -> tuple[list[str], b
                  f"the same, {MAX_SWITCHES:,} lab switches first ({most_ticks:,})": most,
                  f"the same, {MAX_SWITCHES:,} lab switches spread ({spread_ticks:,})": spread,
                  f"the same, the most input runs ({busy_ticks:,})": busy,
-                 f"the same, \\r\\n and a blank line after each ({windows_ticks:,})": windows,
+                 f"the same, \\r\\n and blank lines ({windows_ticks:,})": windows,
                  **hostile_headers(folder, longest.open().readline().rstrip("\n"), size),
                  f"{size / 2**20:.4g} MB of lab switches": flood}
         seen: dict[str, list[tuple[float, float, int | None]]] = {n: [] for n in files}
