@@ -15,7 +15,7 @@ from invaders.game.kinds import Kind
 from invaders.game.saucer import SIDE_BITS, from_left_after, launch, score_for
 from invaders.game.world import Phase, World
 from invaders.lab.autopilot import Autopilot
-from tests.helpers import active_world, step_until
+from tests.helpers import active_world, mask_rows, step_until
 
 G = DEFAULT_CONFIG.geometry
 
@@ -198,6 +198,33 @@ def test_a_cleared_wave_starts_the_next_lower_with_fresh_shields():
     assert world.rack.live == 55
     assert world.bunkers[0].mask.count() == world.bunkers[1].mask.count() > 0
     assert world.cannon.x == G.cannon_min_x
+
+
+def _ground_chipped(world: World) -> tuple[str, ...]:
+    """A plunger bomb dropped at the far left, left of the cannon, down to the ground line,
+    which its burst chips: the line's pixels after."""
+    slot = world.slots[BombType.PLUNGER]
+    slot.bomb = Bomb(world.store.new_id(), BombType.PLUNGER, 4, 100)
+    world.store.add(slot.bomb)
+    step_until(world, lambda r: Event.BOMB_BURST in r.events, limit=400)
+    return mask_rows(world.ground)
+
+
+def test_the_ground_line_keeps_its_chips_through_a_lost_ship_and_is_drawn_afresh_each_wave():
+    """The ROM draws the line afresh where a field is set up (0804): after a cleared wave
+    (0A30, 0A39 go back there), not after a lost ship (032F goes back to 0817)."""
+    world = active_world()
+    _quiet(world)
+    chipped = _ground_chipped(world)
+    assert chipped[0].count(".") > 0 and chipped[0][20:] == "#" * 204  # (only at the left)
+    world.kill_cannon()
+    step_until(world, lambda r: world.cannon.state is CannonState.ACTIVE, limit=400)
+    assert world.ships == 2 and mask_rows(world.ground) == chipped
+    for alien in world.rack.live_aliens()[1:]:
+        world.rack.kill(alien, world.store)
+    world.kill_alien(world.rack.live_aliens()[0])
+    step_until(world, lambda r: Event.WAVE_STARTED in r.events, limit=200)
+    assert world.wave == 2 and mask_rows(world.ground) == ("#" * 224,)
 
 
 def test_losing_the_last_ship_ends_the_game_and_start_begins_a_new_one():

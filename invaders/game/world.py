@@ -112,7 +112,6 @@ class World:
         self.events: list[Event] = []
         self.scoring = True  # False: the attract cycle's demo, which scores nothing
         self._reload: tuple[int, GameConfig | None, int] = (-1, None, 0)  # score, config, steps
-        self.ground = art.fresh_mask(art.GROUND)
         self._new_game(players)
 
     @property
@@ -136,7 +135,6 @@ class World:
         self.ships = self.config.rules.ships
         self.extra_awarded = False
         self.games += 1
-        self.ground = art.fresh_mask(art.GROUND)
         self.players, self.player = players, 1
         # The player waiting for a turn (player 2 starts on a fresh wave 1), or None.
         self.waiting = Turn(2, 0, self.ships, False, 1, None) if players == 2 else None
@@ -144,7 +142,10 @@ class World:
         self._start_wave(1)
 
     def _start_wave(self, wave: int) -> None:
+        """A new rack on a cleared field, with fresh shields and the ground line drawn afresh
+        (a cleared wave goes back to 0804, which draws it: 0A30, 0A39)."""
         self.wave = wave
+        self.ground = art.fresh_mask(art.GROUND)
         self._set_field(Rack(self.config, self.config.start_top(wave), self.store), None)
         self.events.append(Event.WAVE_STARTED)
 
