@@ -219,6 +219,48 @@ def test_every_episode_is_a_replay_that_checks(tmp_path, capsys):
     assert capsys.readouterr().out.count("ok ") == 2
 
 
+def _played(env: SpaceInvadersEnv, actions: list[int]) -> list[tuple]:
+    """Each step's observation (as bytes), reward, ends and info."""
+    return [(obs.tobytes(), reward, terminated, truncated, info)
+            for obs, reward, terminated, truncated, info in map(env.step, actions)]
+
+
+@pytest.mark.parametrize("options", [{"obs_type": "state"},
+                                     {"obs_type": "grayscale", "resize": (84, 84), "stack": 4}])
+def test_a_state_cloned_and_restored_plays_the_same_steps_each_time(options, tmp_path, capsys):
+    """ALE's clone_state and restore_state, the generator of sticky actions and frame skips
+    in the state: the same actions from the state give the same steps however often it is
+    restored, and the episode recorded through the restores checks."""
+    env = SpaceInvadersEnv(frameskip=(2, 6), record=tmp_path, **options)
+    env.reset(seed=4)
+    draw = random.Random(0)
+    _played(env, [draw.randrange(6) for _ in range(150)])
+    state = env.clone_state(include_rng=True)
+    actions = [draw.randrange(6) for _ in range(400)]
+    first = _played(env, actions)
+    assert sum(step[1] for step in first) > 0 and any(step[4]["events"] for step in first)
+    for _ in range(2):
+        env.restore_state(state)
+        assert _played(env, actions) == first
+    env.restore_state(state)
+    while not any(env.step(draw.randrange(6))[2:4]):
+        pass
+    (episode,) = tmp_path.glob("*.json")
+    assert main(["replay", str(episode)]) == 0 and "ok " in capsys.readouterr().out
+
+
+def test_a_state_restored_without_the_generator_leaves_the_environments_own():
+    """As ALE's (include_rng=False): without sticky actions and with a fixed frame skip the
+    steps from the state are the same again; the generator goes on where it was."""
+    env = SpaceInvadersEnv(obs_type="state", repeat_action_probability=0.0)
+    env.reset(seed=9)
+    state, actions = env.clone_state(), [random.Random(1).randrange(6) for _ in range(300)]
+    first = _played(env, actions)
+    drawn = env._draws.getstate()
+    env.restore_state(state)
+    assert env._draws.getstate() == drawn and _played(env, actions) == first
+
+
 def test_recording_never_writes_over_an_episode_already_there(tmp_path):
     """Two runs of the same seeds into one folder (a script run twice): the second run's
     episodes get names of their own; every file is kept, and each is its own run's."""

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import itertools
 
 import pytest
@@ -12,6 +13,7 @@ from invaders.game.config import DEFAULT_CONFIG
 from invaders.game.entities import Bomb, BombType, CannonState, Shot
 from invaders.game.events import Event
 from invaders.game.kinds import Kind
+from invaders.game.replay import Checkpoint
 from invaders.game.saucer import SIDE_BITS, from_left_after, launch, score_for
 from invaders.game.world import Phase, World
 from invaders.lab.autopilot import Autopilot
@@ -225,6 +227,28 @@ def test_the_ground_line_keeps_its_chips_through_a_lost_ship_and_is_drawn_afresh
     world.kill_alien(world.rack.live_aliens()[0])
     step_until(world, lambda r: Event.WAVE_STARTED in r.events, limit=200)
     assert world.wave == 2 and mask_rows(world.ground) == ("#" * 224,)
+
+
+@pytest.mark.parametrize("players", [1, 2])
+def test_a_deep_copy_of_a_world_plays_on_alone_as_the_same_inputs_from_the_start(players):
+    """What the environment's clone_state keeps: the copy plays on as a world given the same
+    inputs from the start, and the world copied stays as it was (the pictures the game
+    changes in place, its shields, ground and a waiting player's shields, are its own)."""
+    world, pilot, inputs = World(seed=5, players=players), Autopilot(5), []
+
+    def play(on: World) -> None:
+        for _ in range(4000):
+            inputs.append(pilot.actions(on))
+            on.step(inputs[-1])
+
+    play(world)
+    assert world.ground.count() < 224 and (players == 1 or len(world.waiting.shields) == 4)
+    copied, before = copy.deepcopy(world), Checkpoint.of(world)
+    play(copied)
+    again = World(seed=5, players=players)
+    for bits in inputs:
+        again.step(bits)
+    assert Checkpoint.of(world) == before != Checkpoint.of(copied) == Checkpoint.of(again)
 
 
 def test_losing_the_last_ship_ends_the_game_and_start_begins_a_new_one():

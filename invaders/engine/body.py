@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import copy
+import functools
+from typing import Any
+
 import pygame
 
 FAR = 1 << 60
@@ -46,6 +50,23 @@ class Body:
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(id={self.id}, x={self.x}, y={self.y})"
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> Body:
+        """A copy with this body's picture: pictures are shared between bodies and never
+        drawn on, and masks cannot be deep-copied. An owner whose bodies' pictures change
+        in place (a shield that erodes) puts copies of them in `memo` first."""
+        memo.setdefault(id(self.mask), self.mask)
+        clone = object.__new__(type(self))
+        memo[id(self)] = clone
+        for name in _slots(type(self)):
+            setattr(clone, name, copy.deepcopy(getattr(self, name), memo))
+        return clone
+
+
+@functools.cache
+def _slots(cls: type) -> tuple[str, ...]:
+    """Every field of a body of this class (Body's, and its subclass's own)."""
+    return tuple(name for klass in cls.__mro__ for name in getattr(klass, "__slots__", ()))
 
 
 def tick_box(body: Body, tick: int, swept: bool = True) -> tuple[int, int, int, int]:

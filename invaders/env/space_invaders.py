@@ -10,10 +10,12 @@ objects, and every episode written as a replay that `invaders replay` checks.
 
 from __future__ import annotations
 
+import copy
 import functools
 import os
 import random
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -54,6 +56,22 @@ MAX_FRAMES = 108_000  # ALE v5's frames an episode (30 minutes at 60 Hz): then t
 def _bits(meaning: str) -> int:
     return (FIRE if "FIRE" in meaning else 0) | (RIGHT if "RIGHT" in meaning else 0) | (
         LEFT if "LEFT" in meaning else 0)
+
+
+@dataclass(frozen=True)
+class EnvState:
+    """An episode as it stood, from `clone_state`, to go back to with `restore_state`: its
+    world, the last frame's input (sticky actions repeat it), the frame counts, the frames
+    stacked, the recording so far, and (if asked for) the generator of sticky actions and
+    frame skips. Nothing in it is shared with the environment: restored again, it plays
+    the same again."""
+    world: World
+    previous: int
+    episode_frames: int
+    frame_number: int
+    stacked: np.ndarray | None
+    replay: Replay | None
+    draws: tuple | None  # (random.Random's state, with include_rng)
 
 
 class SpaceInvadersEnv(gym.Env):
@@ -165,6 +183,31 @@ class SpaceInvadersEnv(gym.Env):
             self._save_episode()
         # (the counter has four digits, as the ROM's: points past 9990 wrap to 0000)
         return float((world.score - score) % SCORE_WRAP), terminated, truncated, reports
+
+    def clone_state(self, include_rng: bool = False) -> EnvState:
+        """The episode as it stands, for `restore_state` (as ALE's: a search tries moves
+        from one state). With include_rng, also the generator of sticky actions and frame
+        skips: the same actions after a restore then give the same episode."""
+        if self.world is None:
+            raise RuntimeError("call reset() before clone_state()")
+        return EnvState(copy.deepcopy(self.world), self._previous, self._episode_frames,
+                        self.frame_number,
+                        None if self._stack is None else self._stack.frames.copy(),
+                        copy.deepcopy(self._replay),
+                        self._draws.getstate() if include_rng else None)
+
+    def restore_state(self, state: EnvState) -> None:
+        """Go back to a state `clone_state` gave: the episode plays on from there (and its
+        recording, if one is made, is the play up to there; an episode that ends is written
+        each time). A state without the generator leaves this one as it is, as ALE's."""
+        self.world = copy.deepcopy(state.world)
+        self._previous, self._episode_frames = state.previous, state.episode_frames
+        self.frame_number = state.frame_number
+        if self._stack is not None and state.stacked is not None:
+            self._stack.frames[:] = state.stacked
+        self._replay = copy.deepcopy(state.replay)
+        if state.draws is not None:
+            self._draws.setstate(state.draws)
 
     def render(self) -> np.ndarray | None:
         """The RGB picture (rgb_array), or the picture shown in a window (human)."""

@@ -11,9 +11,10 @@ never reads a clock or touches the display.
 
 from __future__ import annotations
 
+import copy
 import random
 from enum import IntEnum
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import pygame
 
@@ -123,6 +124,24 @@ class World:
         """Live collidable bodies per kind, by name (what replays compare first)."""
         by_kind = self.store.by_kind
         return {kind.name.lower(): len(by_kind[kind]) for kind in THINGS}
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> World:
+        """A world that plays on alone from here (a search tries moves from one state): the
+        pictures the game changes in place copied (the shields, the ground, the waiting
+        player's shields), its config, rules and every other picture shared (never
+        changed)."""
+        waiting = self.waiting.shields if self.waiting is not None else []
+        for mask in (self.ground, *(b.mask for b in self.bunkers), *self._shields_up,
+                     *waiting):
+            memo.setdefault(id(mask), mask.copy())
+        rng = random.Random()  # (its state's 625 numbers, copied at once)
+        rng.setstate(self.rng.getstate())
+        memo.update({id(self.config): self.config, id(self.rules): self.rules,
+                     id(self.rng): rng})
+        clone = object.__new__(World)
+        memo[id(self)] = clone
+        clone.__dict__.update(copy.deepcopy(self.__dict__, memo))
+        return clone
 
     def bodies(self, kind: Kind) -> list[Body]:
         """Live bodies of a kind, in id order."""
