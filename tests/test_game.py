@@ -7,6 +7,7 @@ import itertools
 
 import pytest
 
+from invaders.engine.adaptive import BROADPHASES, DEFAULT_BROADPHASE
 from invaders.game import bombs
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG
@@ -229,12 +230,15 @@ def test_the_ground_line_keeps_its_chips_through_a_lost_ship_and_is_drawn_afresh
     assert world.wave == 2 and mask_rows(world.ground) == ("#" * 224,)
 
 
-@pytest.mark.parametrize("players", [1, 2])
-def test_a_deep_copy_of_a_world_plays_on_alone_as_the_same_inputs_from_the_start(players):
+@pytest.mark.parametrize("players, broadphase",
+                         [(2, DEFAULT_BROADPHASE), *((1, name) for name in BROADPHASES)])
+def test_a_deep_copy_of_a_world_plays_on_alone_as_the_same_inputs_from_the_start(
+        players, broadphase):
     """What the environment's clone_state keeps: the copy plays on as a world given the same
-    inputs from the start, and the world copied stays as it was (the pictures the game
-    changes in place, its shields, ground and a waiting player's shields, are its own)."""
-    world, pilot, inputs = World(seed=5, players=players), Autopilot(5), []
+    inputs from the start, whichever broad phase, and the world copied stays as it was (the
+    pictures the game changes in place, its shields, ground and a waiting player's
+    shields, are its own)."""
+    world, pilot, inputs = World(5, players=players, broadphase=broadphase), Autopilot(5), []
 
     def play(on: World) -> None:
         for _ in range(4000):
@@ -245,7 +249,7 @@ def test_a_deep_copy_of_a_world_plays_on_alone_as_the_same_inputs_from_the_start
     assert world.ground.count() < 224 and (players == 1 or len(world.waiting.shields) == 4)
     copied, before = copy.deepcopy(world), Checkpoint.of(world)
     play(copied)
-    again = World(seed=5, players=players)
+    again = World(5, players=players, broadphase=broadphase)
     for bits in inputs:
         again.step(bits)
     assert Checkpoint.of(world) == before != Checkpoint.of(copied) == Checkpoint.of(again)
