@@ -225,14 +225,21 @@ def test_a_line_the_regular_expressions_must_not_misread_is_read_as_json_reads_i
         len(outcome.checkpoints) == len(lines) - 1)
 
 
-def test_a_files_own_order_of_fields_is_learnt_from_its_first_block(tmp_path):
-    """Fields in an order no tool of ours writes, the same on every line (as a program
-    written elsewhere would write them): the pattern of any order reads the first block,
-    its order is learnt, and that order's pattern reads the other blocks."""
-    path = tmp_path / "reversed.json"
+LEARNT = {  # the same lines as a program written elsewhere may write them all
+    "fields reversed": lambda o: json.dumps(reversed_fields(o)),
+    "the counts twice": lambda o: counts_twice(json.dumps(o, separators=(",", ":"))),
+    "every object twice, the first a part": lambda o: _twice_first_a_part(o),
+}
+
+
+@pytest.mark.parametrize("spelling", sorted(LEARNT))
+def test_a_files_own_order_of_fields_is_learnt_from_its_first_block(tmp_path, spelling):
+    """Fields in an order no tool of ours writes, the same on every line, names written
+    again included (JSON keeps the last): the pattern of any order reads the first block,
+    the order as written is learnt, and that order's pattern reads the other blocks."""
+    path = tmp_path / "other.json"
     header, *lines = _long_objects(tmp_path)
-    path.write_text("\n".join([json.dumps(header), *(json.dumps(reversed_fields(line))
-                                                     for line in lines)]) + "\n")
+    path.write_text("\n".join([json.dumps(header), *map(LEARNT[spelling], lines)]) + "\n")
     taken, columns = [], canonical._columns
 
     def recorded(*args):
@@ -243,8 +250,41 @@ def test_a_files_own_order_of_fields_is_learnt_from_its_first_block(tmp_path):
                            ), mock.patch.object(canonical, "_columns", recorded):
         replay = _without_single_lines(path)
     assert replay == _by_json_alone(path) and len(replay.checkpoints) == len(lines) > 400
-    reverse = canonical.order_of(json.dumps(reversed_fields(lines[0])).encode())
-    assert taken == [canonical.ANY] + [reverse] * (len(taken) - 1) and len(taken) > 2
+    written = canonical.order_of(LEARNT[spelling](lines[0]).encode())
+    assert written is not None and written not in (canonical.OWN, canonical.SORTED)
+    assert taken == [canonical.ANY] + [written] * (len(taken) - 1) and len(taken) > 2
+
+
+LEARNT_EDITS = {  # one line, after the block an order with the counts twice is learnt from
+    "the last counts without a field": (r'\},"counts":\{"cannon":\d+,', '},"counts":{',
+                                        "refused"),
+    "the first counts a part": (r'"counts":\{[^}]*\},"counts"', '"counts":{"shot":1},"counts"',
+                                "read"),
+    "the first counts empty": (r'"counts":\{[^}]*\},"counts"', '"counts":{},"counts"', "read"),
+    "the first counts with a fraction": (r'"counts":\{"cannon":\d+', '"counts":{"cannon":0.5',
+                                         "refused"),
+    "the first counts the groups": (r'"counts":\{[^}]*\},"counts"',
+                                    '"counts":{"game":"%s"},"counts"' % ("0" * 16), "read"),
+    "the groups twice too": (r'("groups":\{[^}]*\})', r'"groups":{"rack":"%s"},\1' % ("1" * 16),
+                             "read"),
+    "the counts once": (r'"counts":\{[^}]*\},', "", "read"),
+}
+
+
+@pytest.mark.parametrize("edit", sorted(LEARNT_EDITS))
+def test_a_line_an_order_learnt_must_not_misread_is_read_as_json_reads_it(tmp_path, edit):
+    """A file whose lines write the counts twice teaches that order; one line after is
+    edited: it reads (or is refused) as the JSON parser alone has it."""
+    pattern, replacement, verdict = LEARNT_EDITS[edit]
+    header, *lines = _long_objects(tmp_path)
+    texts = [LEARNT["the counts twice"](line) for line in lines]
+    texts[300], edits = re.subn(pattern, replacement, texts[300], count=1)
+    path = tmp_path / "edited.json"
+    path.write_text("\n".join([json.dumps(header), *texts]) + "\n")
+    outcome = _outcome(path)
+    assert outcome == _by_json_alone(path) and edits == 1
+    assert str(outcome).startswith("refused: ") if verdict == "refused" else (
+        len(outcome.checkpoints) == len(lines))
 
 
 def test_a_file_teaches_only_a_few_orders():
