@@ -251,7 +251,8 @@ def test_a_state_cloned_and_restored_plays_the_same_steps_each_time(options, tmp
 
 def test_a_state_restored_without_the_generator_leaves_the_environments_own():
     """As ALE's (include_rng=False): without sticky actions and with a fixed frame skip the
-    steps from the state are the same again; the generator goes on where it was."""
+    steps from the state are the same again; the generator goes on where it was. Restored
+    before a reset, or where the frames stacked cannot be the state's: refused."""
     env = SpaceInvadersEnv(obs_type="state", repeat_action_probability=0.0)
     env.reset(seed=9)
     state, actions = env.clone_state(), [random.Random(1).randrange(6) for _ in range(300)]
@@ -259,6 +260,12 @@ def test_a_state_restored_without_the_generator_leaves_the_environments_own():
     drawn = env._draws.getstate()
     env.restore_state(state)
     assert env._draws.getstate() == drawn and _played(env, actions) == first
+    stacking = SpaceInvadersEnv(obs_type="grayscale", stack=4)
+    with pytest.raises(RuntimeError, match="reset"):
+        stacking.restore_state(state)
+    stacking.reset(seed=9)
+    with pytest.raises(ValueError, match="stacks other pictures"):
+        stacking.restore_state(state)
 
 
 def test_recording_never_writes_over_an_episode_already_there(tmp_path):

@@ -200,10 +200,16 @@ class SpaceInvadersEnv(gym.Env):
         """Go back to a state `clone_state` gave: the episode plays on from there (and its
         recording, if one is made, is the play up to there; an episode that ends is written
         each time). A state without the generator leaves this one as it is, as ALE's."""
+        if self.world is None:
+            raise RuntimeError("call reset() before restore_state()")
+        if self._stack is not None and (state.stacked is None
+                                        or state.stacked.shape != self._stack.frames.shape):
+            raise ValueError("restore_state: the state is of an environment that stacks "
+                             "other pictures")
         self.world = copy.deepcopy(state.world)
         self._previous, self._episode_frames = state.previous, state.episode_frames
         self.frame_number = state.frame_number
-        if self._stack is not None and state.stacked is not None:
+        if self._stack is not None:
             self._stack.frames[:] = state.stacked
         self._replay = copy.deepcopy(state.replay)
         if state.draws is not None:
