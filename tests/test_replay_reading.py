@@ -287,6 +287,17 @@ def test_a_line_an_order_learnt_must_not_misread_is_read_as_json_reads_it(tmp_pa
         len(outcome.checkpoints) == len(lines))
 
 
+def test_an_order_naming_more_than_twice_an_objects_fields_is_not_learnt():
+    """Each order learnt is a pattern to compile: a line of 256 KB may name a field
+    thousands of times (seconds to compile), so an object with more names than twice its
+    fields teaches nothing (the pattern of any order reads such lines all the same)."""
+    line = json.loads(_checkpoint_line())
+    text = json.dumps(line, separators=(",", ":"))
+    counts = '"counts":' + json.dumps(line["checkpoint"]["counts"], separators=(",", ":"))
+    assert canonical.order_of(text.replace(counts, ",".join([counts] * 8)).encode())
+    assert canonical.order_of(text.replace(counts, ",".join([counts] * 9)).encode()) is None
+
+
 def test_a_file_teaches_only_a_few_orders():
     """Each order learnt is a pattern to compile (a few milliseconds): a file with a new
     order in every block teaches the first few, then the JSON block reader reads it."""

@@ -164,7 +164,8 @@ class Orders:
 def order_of(line: bytes) -> Order | None:
     """The order of a checkpoint line's fields as written (a name written again named
     again; the objects inside, the last of their name's, as JSON keeps it); None for any
-    other line."""
+    other line, and for one with more names than twice its fields in an object (a line of
+    256 KB could name thousands: a pattern that takes seconds to compile)."""
     try:
         data = json.loads(line, object_pairs_hook=_Written)
         checkpoint = data.last("checkpoint")
@@ -172,7 +173,10 @@ def order_of(line: bytes) -> Order | None:
                  checkpoint.last("groups").names())
     except (ValueError, TypeError, AttributeError, KeyError, RecursionError):
         return None
-    return order if tuple(map(sorted, map(set, order))) == tuple(map(list, SORTED)) else None
+    if tuple(map(sorted, map(set, order))) != tuple(map(list, SORTED)) or any(
+            len(names) > 2 * len(set(names)) for names in order):
+        return None  # (no name more than twice on average: each order's pattern stays small)
+    return order
 
 
 class _Written(list):
