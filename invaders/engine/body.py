@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 import functools
 from typing import Any
 
@@ -54,12 +53,14 @@ class Body:
     def __deepcopy__(self, memo: dict[int, Any]) -> Body:
         """A copy with this body's picture: pictures are shared between bodies and never
         drawn on, and masks cannot be deep-copied. An owner whose bodies' pictures change
-        in place (a shield that erodes) puts copies of them in `memo` first."""
-        memo.setdefault(id(self.mask), self.mask)
+        in place (a shield that erodes) puts copies of them in `memo` first. Every other
+        field of a body is a number, a flag or a tuple of numbers (a test holds it), taken
+        as it is."""
         clone = object.__new__(type(self))
         memo[id(self)] = clone
         for name in _slots(type(self)):
-            setattr(clone, name, copy.deepcopy(getattr(self, name), memo))
+            setattr(clone, name, getattr(self, name))
+        clone.mask = memo.get(id(self.mask), self.mask)
         return clone
 
 
