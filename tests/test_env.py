@@ -4,6 +4,7 @@ add up to the score, and every episode a replay that checks."""
 
 from __future__ import annotations
 
+import copy
 import errno
 import os
 import random
@@ -247,6 +248,19 @@ def test_a_state_cloned_and_restored_plays_the_same_steps_each_time(options, tmp
         pass
     (episode,) = tmp_path.glob("*.json")
     assert main(["replay", str(episode)]) == 0 and "ok " in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("options", [{"obs_type": "rgb"},
+                                     {"obs_type": "grayscale", "resize": (84, 84), "stack": 4}])
+def test_a_deep_copy_of_the_environment_plays_on_as_it_would(options):
+    """`copy.deepcopy(env)`, as some libraries make them: the copy's steps are the ones the
+    environment gives for the same actions, pictures included (each draws its own)."""
+    env = SpaceInvadersEnv(**options)
+    env.reset(seed=3)
+    draw = random.Random(2)
+    _played(env, [draw.randrange(6) for _ in range(100)])
+    copied, actions = copy.deepcopy(env), [draw.randrange(6) for _ in range(300)]
+    assert _played(copied, actions) == _played(env, actions)
 
 
 def test_a_state_restored_without_the_generator_leaves_the_environments_own():

@@ -13,7 +13,7 @@ from __future__ import annotations
 import functools
 import struct
 from math import gcd
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 import pygame
@@ -52,6 +52,11 @@ class PixelObserver:
             gel = ((gel.astype(np.uint32) @ weights + 500) // 1000).astype(np.uint8)
         self.gel, self.out = gel, np.zeros(shape, np.uint8)
         self.grayscale = grayscale
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> PixelObserver:
+        """A new one: the picture is drawn on a surface over `canvas`, which a copy of
+        each would part (the copy drawing on one and reading the other)."""
+        return PixelObserver(self.grayscale)
 
     def observe(self, world: World) -> np.ndarray:
         """The world's picture in `out` (the same array each time: copy it to keep it)."""
@@ -186,6 +191,12 @@ class Shrink:
         self.out = np.zeros((games, height, width), np.uint8)
         self.row_products = self._row_products(games)
         self.column_products = self._column_products()
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> Shrink:
+        """A new one: its products hold views of its arrays, which a copy would part (and
+        it keeps nothing from one step to the next)."""
+        games, height, width = self.out.shape
+        return Shrink((height, width), games)
 
     def _row_products(self, games: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
         """Each block of the rows' weights times the rows it covers, for as many games at
