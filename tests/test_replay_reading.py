@@ -287,6 +287,73 @@ def test_a_line_an_order_learnt_must_not_misread_is_read_as_json_reads_it(tmp_pa
         len(outcome.checkpoints) == len(lines))
 
 
+class _Pairs(list):
+    """A JSON object as (name, value) pairs, so that a name may be written again."""
+
+
+def _pairs(value: object) -> object:
+    if isinstance(value, dict):
+        return _Pairs((name, _pairs(item)) for name, item in value.items())
+    return value
+
+
+def _pairs_text(value: object) -> str:
+    if isinstance(value, _Pairs):
+        return "{" + ",".join(f'"{name}":{_pairs_text(item)}' for name, item in value) + "}"
+    return json.dumps(value, separators=(",", ":"))
+
+
+@st.composite
+def _written_again(draw: st.DrawFn, line: dict) -> str:
+    """The line with its counts written twice (as the file's other lines), then names
+    written again before their last in ways a hostile file might: whole, a part, empty or
+    with a fraction; and perhaps the last counts without one of its fields."""
+    top = _pairs(line)
+    checkpoint = top[1][1]
+    counts_at = [name for name, _ in checkpoint].index("counts")
+    checkpoint.insert(counts_at, ("counts", _Pairs(checkpoint[counts_at][1])))
+    places = {"inputs": top, "checkpoint": top, "tick": checkpoint, "score": checkpoint,
+              "counts": checkpoint, "groups": checkpoint}
+    for name in draw(st.lists(st.sampled_from(sorted(places)), max_size=3)):
+        pairs = places[name]
+        value = [item for key, item in pairs if key == name][-1]
+        kind = draw(st.sampled_from(["whole", "part", "empty", "fraction"]))
+        if isinstance(value, _Pairs) and value:
+            kept = draw(st.lists(st.sampled_from(range(len(value))), unique=True))
+            earlier = {"whole": _Pairs(value), "empty": _Pairs(), "part": _Pairs(
+                value[i] for i in sorted(kept)), "fraction": _Pairs([(value[0][0], 0.5)])}[kind]
+        else:
+            earlier = 0.5 if kind == "fraction" else value
+        pairs.insert(draw(st.integers(0, len(pairs))), (name, earlier))  # (maybe last)
+    last = [item for key, item in checkpoint if key == "counts"][-1]
+    if last and draw(st.booleans()):
+        del last[draw(st.integers(0, len(last) - 1))]
+    return _pairs_text(top)
+
+
+@pytest.fixture(scope="module")
+def counts_twice_lines(tmp_path_factory) -> tuple[dict, list[dict]]:
+    """A replay's header and 160 lines (decoded): written with the counts twice, two blocks,
+    the first of 140 lines or so."""
+    header, *lines = _long_objects(tmp_path_factory.mktemp("long"))
+    return header, lines[:160]
+
+
+@settings(suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_an_order_learnt_with_a_name_written_again_reads_what_json_reads(
+        counts_twice_lines, tmp_path, data):
+    """The invariant kept where an order is learnt with a name written again: a file whose
+    first block teaches the counts written twice, one line after it written again in any
+    of these ways, gives the replay or the refusal reading every line as JSON gives."""
+    header, lines = counts_twice_lines
+    texts = [LEARNT["the counts twice"](line) for line in lines]
+    texts[150] = data.draw(_written_again(lines[150]))
+    path = tmp_path / "again.json"
+    path.write_text("\n".join([json.dumps(header), *texts]) + "\n")
+    assert _outcome(path) == _by_json_alone(path)
+
+
 def test_an_order_naming_more_than_twice_an_objects_fields_is_not_learnt():
     """Each order learnt is a pattern to compile: a line of 256 KB may name a field
     thousands of times (seconds to compile), so an object with more names than twice its
