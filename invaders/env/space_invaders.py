@@ -58,7 +58,7 @@ def _bits(meaning: str) -> int:
         LEFT if "LEFT" in meaning else 0)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # (compared as objects: a world has no equality)
 class EnvState:
     """An episode as it stood, from `clone_state`, to go back to with `restore_state`: its
     world, the last frame's input (sticky actions repeat it), the frame counts, the frames
