@@ -163,6 +163,11 @@ def test_rewards_add_up_to_the_score_and_the_episode_ends_at_game_over(agent):
         lives, total, steps = info["lives"], total + reward, steps + 1
     assert env.world.phase is Phase.GAME_OVER and total == env.world.score > 0
     assert info["episode_frame_number"] == env.world.tick and lives == 0
+    over_at = env.world.tick  # as ALE's, no frame is played past the end until a reset
+    for action in (1, 2):
+        _, reward, terminated, truncated, info = env.step(action)
+        assert (reward, terminated, truncated, info["events"]) == (0.0, True, False, ())
+        assert env.world.tick == info["episode_frame_number"] == over_at
 
 
 def test_sticky_actions_repeat_the_last_frames_input_with_ales_probability(tmp_path):
@@ -410,6 +415,7 @@ def test_an_interrupted_step_on_workers_is_never_taken_for_the_next(monkeypatch)
 def test_bad_options_are_refused_in_one_line():
     for options in ({"obs_type": "ram"}, {"frameskip": 0}, {"frameskip": (4, 2)},
                     {"repeat_action_probability": 2.0}, {"render_mode": "window"},
+                    {"repeat_action_probability": "0.2"}, {"max_num_frames_per_episode": 1.5},
                     {"resize": (84, 84, 3)}, {"stack": 0}, {"stack": 4, "obs_type": "state"}):
         with pytest.raises(ValueError, match=next(iter(options))):
             SpaceInvadersEnv(**options)
@@ -426,6 +432,30 @@ def test_an_episode_cut_short_is_truncated_not_terminated():
         steps = [env.step(0) for _ in range(10)]
         assert [step[2:4] for step in steps] == [(False, False)] * 9 + [(False, True)]
         assert steps[-1][4]["episode_frame_number"] == 40
+
+
+def test_a_step_stops_at_the_frame_limit_and_none_plays_past_it(tmp_path):
+    """As ALE's: 6 frames at 4 a step end in the second step's second frame, a step after
+    plays nothing (the world's tick stands), and the episode recorded holds the 6."""
+    env = SpaceInvadersEnv(obs_type="state", max_num_frames_per_episode=6, record=tmp_path)
+    env.reset(seed=5)
+    ends = [env.step(1)[2:] for _ in range(3)]
+    assert [(terminated, truncated, info["episode_frame_number"])
+            for terminated, truncated, info in ends] == [(False, False, 4), (False, True, 6),
+                                                        (False, True, 6)]
+    assert env.world.tick == 6 and ends[-1][2]["events"] == ()
+    [episode] = tmp_path.glob("*.json")
+    assert load(episode).ticks == 6
+
+
+@pytest.mark.parametrize("limit", [None, 0, -5])
+def test_no_frame_limit_where_ale_has_none(limit):
+    """None, 0 or below: ALE plays on (its limit counts only above 0)."""
+    env = SpaceInvadersEnv(obs_type="state", max_num_frames_per_episode=limit)
+    env.reset(seed=5)
+    steps = [env.step(0) for _ in range(30)]
+    assert not any(truncated for _, _, _, truncated, _ in steps)
+    assert steps[-1][4]["episode_frame_number"] == env.world.tick == 120
 
 
 def test_gymnasiums_module_form_makes_it_in_a_process_that_never_imported_it():

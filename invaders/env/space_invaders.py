@@ -16,6 +16,7 @@ import os
 import random
 import tempfile
 from dataclasses import dataclass
+from math import inf
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -81,14 +82,18 @@ class SpaceInvadersEnv(gym.Env):
 
     def __init__(self, obs_type: str = "rgb", frameskip: int | tuple[int, int] = 4,
                  repeat_action_probability: float = 0.25, full_action_space: bool = False,
-                 max_num_frames_per_episode: int = MAX_FRAMES, render_mode: str | None = None,
+                 max_num_frames_per_episode: int | None = MAX_FRAMES,
+                 render_mode: str | None = None,
                  record: str | Path | None = None, resize: tuple[int, int] | None = None,
                  stack: int = 1) -> None:
         _check_options(obs_type, frameskip, repeat_action_probability, render_mode, resize,
-                       stack)
+                       stack, max_num_frames_per_episode)
         self.obs_type, self.frameskip = obs_type, frameskip
         self.repeat_action_probability = repeat_action_probability
         self.max_num_frames_per_episode = max_num_frames_per_episode
+        # As ALE's: None, 0 or below is no limit.
+        self._frame_limit = max_num_frames_per_episode if (
+            max_num_frames_per_episode is not None and max_num_frames_per_episode > 0) else inf
         self.render_mode = render_mode
         meanings = FULL_MEANINGS if full_action_space else MINIMAL_MEANINGS
         self._meanings = meanings
@@ -159,26 +164,32 @@ class SpaceInvadersEnv(gym.Env):
 
     def advance(self, action: int) -> tuple[float, bool, bool, list[TickReport]]:
         """The step's frames (an action already checked): the reward, whether the game is
-        over or the episode cut short, and each frame's report."""
+        over or the episode cut short, and each frame's report. As ALE's, no frame is
+        played past the episode's end: the step stops at the frame it ends on, and a step
+        after that plays none (reward 0, the same ends) until a reset."""
         world, wanted = self.world, self._actions[action]
         assert world is not None
+        if world.phase is GAME_OVER or self._episode_frames >= self._frame_limit:
+            return 0.0, world.phase is GAME_OVER, self._episode_frames >= self._frame_limit, []
         score = world.score
         # Sticky actions, frame by frame: each frame keeps the previous frame's input with
         # the given probability.
         draw, sticky = self._draws.random, self.repeat_action_probability
         reports = []
+        frames_left = self._frame_limit - self._episode_frames
         for _ in range(self._skip()):
             bits = self._previous if draw() < sticky else wanted
             self._previous = bits
             reports.append(world.step(bits))
             if self._replay is not None:
                 self._note(bits)
-            if world.phase is GAME_OVER:
+            if world.phase is GAME_OVER or len(reports) == frames_left:
                 break
         self._episode_frames += len(reports)
         self.frame_number += len(reports)
+        # (both, as ALE's, when the game ends on the limit's frame)
         terminated = world.phase is GAME_OVER
-        truncated = not terminated and self._episode_frames >= self.max_num_frames_per_episode
+        truncated = self._episode_frames >= self._frame_limit
         if terminated or truncated:
             self._save_episode()
         # (the counter has four digits, as the ROM's: points past 9990 wrap to 0000)
@@ -306,15 +317,19 @@ class SpaceInvadersEnv(gym.Env):
         pygame.display.flip()
 
 
-def _check_options(obs_type: str, frameskip: Any, repeat_action_probability: float,
-                   render_mode: str | None, resize: Any, stack: Any) -> None:
+def _check_options(obs_type: str, frameskip: Any, repeat_action_probability: Any,
+                   render_mode: str | None, resize: Any, stack: Any, max_frames: Any) -> None:
     """One ValueError naming the option, for a value the environment cannot take."""
     if obs_type not in OBS_TYPES:
         raise ValueError(f"obs_type {obs_type!r}: choose from {', '.join(OBS_TYPES)}")
     if not _valid_skip(frameskip):
         raise ValueError(f"frameskip {frameskip!r}: a whole number >= 1 or (low, high)")
-    if not 0.0 <= repeat_action_probability <= 1.0:
-        raise ValueError(f"repeat_action_probability {repeat_action_probability}: 0 to 1")
+    if not (isinstance(repeat_action_probability, (int, float))
+            and 0.0 <= repeat_action_probability <= 1.0):
+        raise ValueError(f"repeat_action_probability {repeat_action_probability!r}: 0 to 1")
+    if not (max_frames is None or isinstance(max_frames, int)):
+        raise ValueError(f"max_num_frames_per_episode {max_frames!r}: a whole number (0 or "
+                         "below, or None: no limit)")
     if resize is not None and (obs_type != "grayscale" or len(resize) != 2
                                or not all(1 <= n <= 224 for n in resize)):
         raise ValueError(f"resize {resize!r}: (height, width) up to 224, for grayscale")
