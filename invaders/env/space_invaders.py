@@ -26,6 +26,7 @@ from gymnasium import spaces
 
 from invaders.atomic import write_new
 from invaders.engine.stats import CollisionStats
+from invaders.env.ale_view import AleView
 from invaders.env.observations import (
     STATE_HIGH,
     STATE_SIZE,
@@ -91,8 +92,8 @@ class SpaceInvadersEnv(gym.Env):
         self.obs_type, self.frameskip = obs_type, frameskip
         self.repeat_action_probability = repeat_action_probability
         self.max_num_frames_per_episode = max_num_frames_per_episode
-        # As ALE's: None, 0 or below is no limit.
-        self._frame_limit = max_num_frames_per_episode if (
+        # The frames an episode may last (as ALE's: None, 0 or below is no limit).
+        self.frame_limit = max_num_frames_per_episode if (
             max_num_frames_per_episode is not None and max_num_frames_per_episode > 0) else inf
         self.render_mode = render_mode
         meanings = FULL_MEANINGS if full_action_space else MINIMAL_MEANINGS
@@ -118,6 +119,19 @@ class SpaceInvadersEnv(gym.Env):
         """What draws the picture observed, made when first drawn with (a batch that draws
         its games' pictures itself never makes one)."""
         return PixelObserver(self.obs_type == "grayscale")
+
+    @functools.cached_property
+    def ale(self) -> AleView:
+        """ALE's interface as `ale_py`'s environment has it (the lives, the screen, the
+        frame numbers): what Gymnasium's `AtariPreprocessing` and other Atari wrappers read
+        from `env.unwrapped.ale`."""
+        return AleView(self)
+
+    @property
+    def _frameskip(self) -> int | tuple[int, int]:
+        """ALE's environment's name for `frameskip`: `AtariPreprocessing` reads it (and
+        takes only an environment that skips no frames itself, `frameskip=1`)."""
+        return self.frameskip
 
     @property
     def episode_frame_number(self) -> int:
@@ -169,14 +183,14 @@ class SpaceInvadersEnv(gym.Env):
         after that plays none (reward 0, the same ends) until a reset."""
         world, wanted = self.world, self._actions[action]
         assert world is not None
-        if world.phase is GAME_OVER or self._episode_frames >= self._frame_limit:
-            return 0.0, world.phase is GAME_OVER, self._episode_frames >= self._frame_limit, []
+        if world.phase is GAME_OVER or self._episode_frames >= self.frame_limit:
+            return 0.0, world.phase is GAME_OVER, self._episode_frames >= self.frame_limit, []
         score = world.score
         # Sticky actions, frame by frame: each frame keeps the previous frame's input with
         # the given probability.
         draw, sticky = self._draws.random, self.repeat_action_probability
         reports = []
-        frames_left = self._frame_limit - self._episode_frames
+        frames_left = self.frame_limit - self._episode_frames
         for _ in range(self._skip()):
             bits = self._previous if draw() < sticky else wanted
             self._previous = bits
@@ -189,7 +203,7 @@ class SpaceInvadersEnv(gym.Env):
         self.frame_number += len(reports)
         # (both, as ALE's, when the game ends on the limit's frame)
         terminated = world.phase is GAME_OVER
-        truncated = self._episode_frames >= self._frame_limit
+        truncated = self._episode_frames >= self.frame_limit
         if terminated or truncated:
             self._save_episode()
         # (the counter has four digits, as the ROM's: points past 9990 wrap to 0000)

@@ -1,0 +1,87 @@
+"""The part of ALE's interface that training code reads through `env.unwrapped.ale`.
+
+Gymnasium's `AtariPreprocessing` asks ALE for the screen itself (RGB or grey, into arrays
+it keeps) and for the lives; Stable-Baselines3's Atari wrappers ask for the lives. Here
+they read the game: the same pictures the observations are (upright, 256x224, the
+cabinet's gel), and the ships left. Nothing here changes the game.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+import numpy as np
+
+from invaders.env.observations import PixelObserver
+from invaders.game.config import SCREEN_H, SCREEN_W
+from invaders.game.world import Phase, World
+
+
+class Episode(Protocol):
+    """What the view reads of an environment (`SpaceInvadersEnv`)."""
+
+    world: World | None
+    frame_number: int
+    frame_limit: float  # (inf: none)
+
+    @property
+    def episode_frame_number(self) -> int: ...
+
+
+class AleView:
+    """ALE's names, as `ale_py.ALEInterface` has them, for one environment's game."""
+
+    def __init__(self, env: Episode) -> None:
+        self._env = env
+        self._rgb: PixelObserver | None = None  # (made when first asked for)
+        self._grey: PixelObserver | None = None
+
+    def lives(self) -> int:
+        return max(self._world().ships, 0)
+
+    def getScreenDims(self) -> tuple[int, int]:
+        """(height, width), as ALE's."""
+        return SCREEN_H, SCREEN_W
+
+    def getScreenRGB(self, array: np.ndarray | None = None) -> np.ndarray | None:
+        """The picture, (256, 224, 3): a new array, or written into `array` (then None)."""
+        self._rgb = self._rgb or PixelObserver(grayscale=False)
+        return _given(self._rgb.observe(self._world()), array)
+
+    def getScreenGrayscale(self, array: np.ndarray | None = None) -> np.ndarray | None:
+        """The grey picture, (256, 224), as `obs_type="grayscale"`: a new array, or written
+        into `array` (then None)."""
+        self._grey = self._grey or PixelObserver(grayscale=True)
+        return _given(self._grey.observe(self._world()), array)
+
+    def game_over(self, *, with_truncation: bool = True) -> bool:
+        return self._world().phase is Phase.GAME_OVER or (with_truncation
+                                                          and self.game_truncated())
+
+    def game_truncated(self) -> bool:
+        return self._env.episode_frame_number >= self._env.frame_limit
+
+    def getEpisodeFrameNumber(self) -> int:
+        return self._env.episode_frame_number
+
+    def getFrameNumber(self) -> int:
+        return self._env.frame_number
+
+    def _world(self) -> World:
+        world = self._env.world
+        if world is None:
+            raise RuntimeError("call reset() before reading the game")
+        return world
+
+
+def _given(picture: np.ndarray, array: np.ndarray | None) -> np.ndarray | None:
+    """A copy of the picture, or the picture written into `array`, refused as ALE refuses
+    one of another shape (RuntimeError) or type (TypeError)."""
+    if array is None:
+        return picture.copy()
+    if not isinstance(array, np.ndarray) or array.dtype != np.uint8:
+        raise TypeError("the screen goes into a numpy array of uint8")
+    if array.shape != picture.shape:
+        raise RuntimeError(f"Invalid shape {array.shape}, expecting shape {picture.shape}")
+    array[...] = picture
+    return None

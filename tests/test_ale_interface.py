@@ -1,0 +1,75 @@
+"""`env.unwrapped.ale`: ALE's interface as Atari wrappers read it (the lives, the screen, the
+frame numbers, the episode's end), and Gymnasium's own `AtariPreprocessing` on the game."""
+
+from __future__ import annotations
+
+import cv2
+import gymnasium
+import numpy as np
+import pytest
+from gymnasium.wrappers import AtariPreprocessing
+
+import invaders.env  # noqa: F401  (registers the id)
+from invaders.env.space_invaders import SpaceInvadersEnv
+
+ENV_ID = "invaders/SpaceInvaders-v0"
+
+
+def test_ales_interface_reads_what_the_steps_give():
+    """Each step: the grey screen is the observation and the RGB one the render, pixel for
+    pixel, new or written into an array; the lives, frame numbers and ends are the info's
+    and the step's, up to the frame limit (40 frames: 10 steps)."""
+    env = SpaceInvadersEnv(obs_type="grayscale", render_mode="rgb_array",
+                           max_num_frames_per_episode=40)
+    ale = env.ale
+    obs, info = env.reset(seed=3)
+    grey, rgb = np.zeros(obs.shape, np.uint8), np.zeros((*obs.shape, 3), np.uint8)
+    ends = []
+    for step in range(11):
+        assert np.array_equal(ale.getScreenGrayscale(), obs)
+        assert ale.getScreenGrayscale(grey) is None and np.array_equal(grey, obs)
+        assert np.array_equal(ale.getScreenRGB(), env.render())
+        assert ale.getScreenRGB(rgb) is None and np.array_equal(rgb, env.render())
+        assert (ale.lives(), ale.getEpisodeFrameNumber(), ale.getFrameNumber()) == (
+            info["lives"], info["episode_frame_number"], info["frame_number"])
+        obs, _, terminated, truncated, info = env.step(step % 6)
+        ends.append((ale.game_over(), ale.game_over(with_truncation=False),
+                     ale.game_truncated()) == (terminated or truncated, terminated, truncated))
+        assert ale.getEpisodeFrameNumber() == info["episode_frame_number"]
+    assert all(ends) and ale.game_truncated() and ale.getScreenDims() == obs.shape
+
+
+def test_ales_interface_refuses_as_ale_does():
+    env = SpaceInvadersEnv()
+    with pytest.raises(RuntimeError, match="reset"):
+        env.ale.lives()
+    env.reset(seed=0)
+    with pytest.raises(RuntimeError, match=r"Invalid shape \(210, 160\), expecting shape"):
+        env.ale.getScreenGrayscale(np.zeros((210, 160), np.uint8))
+    with pytest.raises(TypeError):
+        env.ale.getScreenRGB(np.zeros((256, 224, 3), np.float32))
+
+
+def test_gymnasiums_atari_preprocessing_takes_the_last_two_frames_of_each_step():
+    """Gymnasium's own wrapper, as its documentation sets it up on ALE (frame skip 1 in the
+    environment, 4 in the wrapper, the RGB observation): each observation is the grey
+    screens of the step's last two frames, their maximum shrunk to 84x84 by OpenCV's area
+    averaging, made here from a twin environment stepped frame by frame; with
+    `terminal_on_life_loss`, the episode ends when a ship is lost."""
+    wrapped = AtariPreprocessing(gymnasium.make(ENV_ID, frameskip=1), noop_max=0,
+                                 terminal_on_life_loss=True)
+    twin = SpaceInvadersEnv(obs_type="grayscale", frameskip=1)
+    obs, info = wrapped.reset(seed=8)
+    frame, _ = twin.reset(seed=8)
+    assert np.array_equal(obs, cv2.resize(frame, (84, 84), interpolation=cv2.INTER_AREA))
+    lives, terminated, steps = info["lives"], False, 0
+    while not terminated:
+        action = steps % 6
+        obs, _, terminated, truncated, info = wrapped.step(action)
+        frames = [twin.step(action)[0].copy() for _ in range(4)]
+        if not terminated:
+            shrunk = cv2.resize(np.maximum(frames[-2], frames[-1]), (84, 84),
+                                interpolation=cv2.INTER_AREA)
+            assert np.array_equal(obs, shrunk)
+        steps += 1
+    assert info["lives"] == lives - 1 and steps > 10 and not truncated
