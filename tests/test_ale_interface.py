@@ -3,6 +3,8 @@ frame numbers, the episode's end), and Gymnasium's own `AtariPreprocessing` on t
 
 from __future__ import annotations
 
+import os
+
 import cv2
 import gymnasium
 import numpy as np
@@ -73,3 +75,46 @@ def test_gymnasiums_atari_preprocessing_takes_the_last_two_frames_of_each_step()
             assert np.array_equal(obs, shrunk)
         steps += 1
     assert info["lives"] == lives - 1 and steps > 10 and not truncated
+
+
+PLAYED = """
+import gymnasium, pygame
+from gymnasium.utils.play import play
+import invaders.env
+
+actions = []
+
+def press(*keys):
+    for key in set(held) - set(keys):
+        pygame.event.post(pygame.event.Event(pygame.KEYUP, key=ord(key)))
+    for key in set(keys) - set(held):
+        pygame.event.post(pygame.event.Event(pygame.KEYDOWN, key=ord(key)))
+    held[:] = keys
+
+def callback(obs, next_obs, action, reward, terminated, truncated, info):
+    actions.append(action)
+    if len(actions) in (3, 5):
+        press(*(["d", " "] if len(actions) == 3 else [" "]))
+    if len(actions) == 7:
+        pygame.event.post(pygame.event.Event(pygame.QUIT))
+
+held = []
+env = gymnasium.make("invaders/SpaceInvaders-v0", render_mode="rgb_array")
+pygame.init()
+press("d")
+play(env, callback=callback, fps=240, seed=1)
+print(*actions)
+"""
+
+
+def test_gymnasiums_play_takes_ales_keys():
+    """A person at the keyboard through Gymnasium's `play`: d held is RIGHT, d and space
+    RIGHTFIRE, space alone FIRE (ALE's keys, as its environment maps them)."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", PLAYED], capture_output=True, text=True,
+                          env={**os.environ, "SDL_VIDEODRIVER": "dummy",
+                               "SDL_AUDIODRIVER": "dummy"}, timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split()[-7:] == ["2", "2", "2", "4", "4", "1", "1"]

@@ -51,6 +51,9 @@ MINIMAL_MEANINGS = ("NOOP", "FIRE", "RIGHT", "LEFT", "RIGHTFIRE", "LEFTFIRE")
 FULL_MEANINGS = ("NOOP", "FIRE", "UP", "RIGHT", "LEFT", "DOWN", "UPRIGHT", "UPLEFT",
                  "DOWNRIGHT", "DOWNLEFT", "UPFIRE", "RIGHTFIRE", "LEFTFIRE", "DOWNFIRE",
                  "UPRIGHTFIRE", "UPLEFTFIRE", "DOWNRIGHTFIRE", "DOWNLEFTFIRE")
+# ALE's keys for human play: w a s d to move, space to fire, e for NOOP (in this order in
+# a combination, as ALE's: up or down, left or right, fire).
+KEYS = {"UP": "w", "DOWN": "s", "LEFT": "a", "RIGHT": "d", "FIRE": " "}
 OBS_TYPES = ("rgb", "grayscale", "state")
 MAX_FRAMES = 108_000  # ALE v5's frames an episode (30 minutes at 60 Hz): then truncated
 
@@ -139,6 +142,11 @@ class SpaceInvadersEnv(gym.Env):
 
     def get_action_meanings(self) -> list[str]:
         return list(self._meanings)
+
+    def get_keys_to_action(self) -> dict[tuple[str, ...], int]:
+        """ALE's keys to each action, for Gymnasium's `play` (a person at the keyboard)."""
+        return {tuple(key for word, key in KEYS.items() if word in meaning) or ("e",): action
+                for action, meaning in enumerate(self._meanings)}
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None
               ) -> tuple[np.ndarray, dict[str, Any]]:
