@@ -8,6 +8,7 @@ import copy
 import errno
 import os
 import random
+import types
 
 import gymnasium
 import numpy as np
@@ -482,6 +483,24 @@ def test_human_rendering_shows_each_step_in_a_window_three_times_the_size():
         assert np.array_equal(shown[1::3, 1::3], _picture_in_the_window(env.unwrapped.world))
     env.close()
     assert not pygame.display.get_init()
+
+
+def test_the_window_shows_the_game_at_its_own_speed():
+    """In the window each step takes its frames' time at 60 a second (the clock asked for
+    60 / frames steps a second), as ALE's human mode runs at the game's speed; `render_fps`,
+    which Gymnasium's play and video recorders read, is that speed in steps a second."""
+    env = SpaceInvadersEnv(obs_type="state", render_mode="human", frameskip=(2, 5))
+    env.reset(seed=2)
+    asked, frames = [], []
+    env._clock = types.SimpleNamespace(tick=asked.append)
+    for _ in range(8):
+        before = env.episode_frame_number
+        env.step(0)
+        frames.append(env.episode_frame_number - before)
+    env.close()
+    assert asked == [60 / n for n in frames] and set(frames) == {2, 3, 4}
+    assert [SpaceInvadersEnv(frameskip=skip).metadata["render_fps"]
+            for skip in (1, 4, (2, 5))] == [60, 15, 20]
 
 
 def test_render_gives_the_rgb_picture_whatever_the_observation():

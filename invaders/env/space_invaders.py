@@ -99,6 +99,8 @@ class SpaceInvadersEnv(gym.Env):
         self.frame_limit = max_num_frames_per_episode if (
             max_num_frames_per_episode is not None and max_num_frames_per_episode > 0) else inf
         self.render_mode = render_mode
+        # (what Gymnasium's play and video recorders read: steps a second at the game's speed)
+        self.metadata = {**self.metadata, "render_fps": _steps_a_second(frameskip)}
         meanings = FULL_MEANINGS if full_action_space else MINIMAL_MEANINGS
         self._meanings = meanings
         self._actions = tuple(_bits(m) for m in meanings)
@@ -164,6 +166,8 @@ class SpaceInvadersEnv(gym.Env):
         reward, terminated, truncated, reports = self.advance(action)
         if self.render_mode == "human":
             self.render()
+            if reports:  # the step's frames take their time, as in ALE's human mode
+                self._clock.tick(DEFAULT_CONFIG.tick_hz / len(reports))
         return self._observe(), reward, terminated, truncated, self._info(reports)
 
     def begin(self, seed: int | None) -> None:
@@ -333,6 +337,7 @@ class SpaceInvadersEnv(gym.Env):
             pygame.display.init()
             self._window = pygame.display.set_mode((SCREEN_W * 3, SCREEN_H * 3))
             pygame.display.set_caption("invaders: SpaceInvaders-v0")
+            self._clock = pygame.time.Clock()
         pygame.event.pump()
         surface = pygame.surfarray.make_surface(picture.transpose(1, 0, 2))
         pygame.transform.scale(surface, self._window.get_size(), self._window)
@@ -383,6 +388,13 @@ def _valid_skip(frameskip: Any) -> bool:
         return (len(frameskip) == 2 and all(isinstance(n, int) for n in frameskip)
                 and 1 <= frameskip[0] < frameskip[1])
     return isinstance(frameskip, int) and frameskip >= 1
+
+
+def _steps_a_second(frameskip: int | tuple[int, int]) -> int:
+    """The steps a second that show the game at its own speed (60 frames a second), for a
+    frame skip (a range's mean: its draws are whole numbers from low to high - 1)."""
+    low, high = (frameskip, frameskip + 1) if isinstance(frameskip, int) else frameskip
+    return max(1, round(DEFAULT_CONFIG.tick_hz / ((low + high - 1) / 2)))
 
 
 def _space(obs_type: str, shape: tuple[int, int], stack: int) -> spaces.Box:
