@@ -449,6 +449,25 @@ def test_a_step_stops_at_the_frame_limit_and_none_plays_past_it(tmp_path):
     assert load(episode).ticks == 6
 
 
+def test_a_game_over_on_the_limits_frame_is_both_ends():
+    """As ALE's (its game_over and game_truncated are apart): the same episode with its
+    limit at the game's last frame ends terminated and truncated, one frame sooner only
+    truncated."""
+    def ends(limit):
+        env = SpaceInvadersEnv(obs_type="state", repeat_action_probability=0.0,
+                               max_num_frames_per_episode=limit)
+        env.reset(seed=6)
+        step = 0
+        while True:
+            _, _, terminated, truncated, info = env.step(step % 6)
+            step += 1
+            if terminated or truncated:
+                return terminated, truncated, info["episode_frame_number"]
+
+    _, _, last = ends(None)
+    assert [ends(last), ends(last - 1)] == [(True, True, last), (False, True, last - 1)]
+
+
 @pytest.mark.parametrize("limit", [None, 0, -5])
 def test_no_frame_limit_where_ale_has_none(limit):
     """None, 0 or below: ALE plays on (its limit counts only above 0)."""
