@@ -413,6 +413,19 @@ def test_an_interrupted_step_on_workers_is_never_taken_for_the_next(monkeypatch)
     assert not process.is_alive()
 
 
+def test_an_action_is_what_the_action_space_contains():
+    """A whole number, numpy's too, or an integer array of no dimensions (as a policy's
+    argmax gives it: Gymnasium's Discrete and ALE take it); anything else refused."""
+    env, twin = SpaceInvadersEnv(obs_type="state"), SpaceInvadersEnv(obs_type="state")
+    env.reset(seed=4)
+    twin.reset(seed=4)
+    for action in (np.array(2), np.int64(4), np.array(1, np.uint8), 3):
+        assert np.array_equal(env.step(action)[0], twin.step(int(action))[0])
+    for action in (np.array([2]), 2.0, 6, -1, np.array(7), "1"):
+        with pytest.raises(ValueError, match="is not in Discrete"):
+            env.step(action)
+
+
 def test_bad_options_are_refused_in_one_line():
     for options in ({"obs_type": "ram"}, {"frameskip": 0}, {"frameskip": (4, 2)},
                     {"repeat_action_probability": 2.0}, {"render_mode": "window"},

@@ -162,7 +162,10 @@ class SpaceInvadersEnv(gym.Env):
         if self.world is None:
             raise RuntimeError("call reset() before step()")
         if not (isinstance(action, (int, np.integer)) and 0 <= action < len(self._actions)):
-            raise ValueError(f"action {action!r} is not in {self.action_space}")
+            # (Gymnasium's Discrete, as ALE, also takes an integer array of no dimensions)
+            if not self.action_space.contains(action):
+                raise ValueError(f"action {action!r} is not in {self.action_space}")
+            action = int(action)
         reward, terminated, truncated, reports = self.advance(action)
         if self.render_mode == "human":
             self.render()
