@@ -22,10 +22,15 @@ class Episode(Protocol):
 
     world: World | None
     frame_number: int
-    frame_limit: float  # (inf: none)
 
     @property
     def episode_frame_number(self) -> int: ...
+
+    @property
+    def cut_short(self) -> bool: ...
+
+    @property
+    def lives(self) -> int: ...
 
 
 class AleView:
@@ -37,7 +42,8 @@ class AleView:
         self._grey: PixelObserver | None = None
 
     def lives(self) -> int:
-        return max(self._world().ships, 0)
+        self._world()  # (refused before a reset)
+        return self._env.lives
 
     def getScreenDims(self) -> tuple[int, int]:
         """(height, width), as ALE's."""
@@ -59,7 +65,7 @@ class AleView:
                                                           and self.game_truncated())
 
     def game_truncated(self) -> bool:
-        return self._env.episode_frame_number >= self._env.frame_limit
+        return self._env.cut_short
 
     def getEpisodeFrameNumber(self) -> int:
         return self._env.episode_frame_number

@@ -113,6 +113,4 @@ class Games:
             env.close()
 
     def _note(self, i: int, env: SpaceInvadersEnv) -> None:
-        assert env.world is not None
-        self.rows.numbers[i] = (max(env.world.ships, 0), env.episode_frame_number,
-                                env.frame_number)
+        self.rows.numbers[i] = (env.lives, env.episode_frame_number, env.frame_number)

@@ -142,6 +142,17 @@ class SpaceInvadersEnv(gym.Env):
     def episode_frame_number(self) -> int:
         return self._episode_frames
 
+    @property
+    def cut_short(self) -> bool:
+        """Whether the episode has played the frames it may (ALE's truncation)."""
+        return self._episode_frames >= self.frame_limit
+
+    @property
+    def lives(self) -> int:
+        """The ships left, as ALE's lives (the count goes below 0 when the last is lost)."""
+        assert self.world is not None
+        return max(self.world.ships, 0)
+
     def get_action_meanings(self) -> list[str]:
         return list(self._meanings)
 
@@ -198,8 +209,8 @@ class SpaceInvadersEnv(gym.Env):
         after that plays none (reward 0, the same ends) until a reset."""
         world, wanted = self.world, self._actions[action]
         assert world is not None
-        if world.phase is GAME_OVER or self._episode_frames >= self.frame_limit:
-            return 0.0, world.phase is GAME_OVER, self._episode_frames >= self.frame_limit, []
+        if world.phase is GAME_OVER or self.cut_short:
+            return 0.0, world.phase is GAME_OVER, self.cut_short, []
         score = world.score
         # Sticky actions, frame by frame: each frame keeps the previous frame's input with
         # the given probability.
@@ -218,7 +229,7 @@ class SpaceInvadersEnv(gym.Env):
         self.frame_number += len(reports)
         # (both, as ALE's, when the game ends on the limit's frame)
         terminated = world.phase is GAME_OVER
-        truncated = self._episode_frames >= self.frame_limit
+        truncated = self.cut_short
         if terminated or truncated:
             self._save_episode()
         # (the counter has four digits, as the ROM's: points past 9990 wrap to 0000)
@@ -307,7 +318,7 @@ class SpaceInvadersEnv(gym.Env):
         assert self.world is not None
         events = tuple(event.name for report in reports for event in report.events)
         counters = map(sum, zip(*(report.stats for report in reports), strict=True))
-        return {"lives": max(self.world.ships, 0), "episode_frame_number": self._episode_frames,
+        return {"lives": self.lives, "episode_frame_number": self._episode_frames,
                 "frame_number": self.frame_number, "events": events,
                 "collisions": dict(zip(CollisionStats._fields, counters, strict=True))
                 if reports else dict.fromkeys(CollisionStats._fields, 0),
