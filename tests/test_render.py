@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pygame
 
 from invaders.app.cli import main
@@ -10,7 +11,7 @@ from invaders.game import art
 from invaders.game.events import Event
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
-from invaders.lab.picture import WHITE, Picture
+from invaders.lab.picture import Picture
 from tests.helpers import active_world
 
 
@@ -264,30 +265,48 @@ def test_each_live_alien_is_drawn_in_its_own_frames_picture_pixel_for_pixel():
                 assert _lit(flat, alien.x + x, alien.top + y) == (ch == "#"), (alien.index, x, y)
 
 
-class _ShieldsDrawnEachFrame(Picture):
-    def _draw_shields(self, world) -> None:
-        for bunker in world.bunkers:
-            bunker.mask.to_surface(self.screen, setcolor=WHITE, unsetcolor=None,
-                                   dest=(bunker.x, bunker.y))
+class _DrawnAfresh(Picture):
+    """The backdrop drawn anew in every frame: nothing kept."""
+
+    def _draw_backdrop(self, world, slot) -> None:
+        self.clear()
+        self._draw_hud(world)
+        self._draw_shields(world)
 
 
-def test_the_kept_shields_are_the_shields_drawn_afresh_in_every_frame_of_two_games():
-    # (The kept pictures rely on World.erosions counting every change to a shield's pixels,
-    # and on a new field's shields being a new list; one picture draws both games in turn,
-    # as a batch of games draws its games, each game's shields kept apart.)
+def _canvas_picture() -> Picture:
+    canvas = np.zeros((256, 224, 3), np.uint8)
+    return Picture(pygame.image.frombuffer(canvas, (224, 256), "RGB"), canvas)
+
+
+def test_the_kept_backdrop_is_the_backdrop_drawn_afresh_in_every_frame_of_two_games():
+    # (The kept backdrop relies on its key: the texts, the ground only losing pixels while
+    # it is the same mask, a new field's shields being a new list and World.erosions
+    # counting every change to their pixels. Each game has its pictures, a plain one and
+    # one over an array as the environment's; one more draws both games in turn, each
+    # with a slot of its own, as a batch of games does, and one more in one slot.)
     worlds = [(World(seed=5, players=2), Autopilot(5)), (World(seed=7), Autopilot(7))]
-    kept, afresh = Picture(), _ShieldsDrawnEachFrame()
-    events, wears = set(), set()
+    own = [(Picture(), _canvas_picture()) for _ in worlds]
+    shared, one_slot, afresh = _canvas_picture(), Picture(), _DrawnAfresh()
+    events, wears, grounds = set(), set(), set()
     for _ in range(3000):
-        for world, pilot in worlds:
+        for slot, (world, pilot) in enumerate(worlds):
             events.update(world.step(pilot.actions(world)).events)
             wears.add(world.erosions)
-            assert (pygame.image.tobytes(kept.draw(world), "RGB")
-                    == pygame.image.tobytes(afresh.draw(world), "RGB")), world.tick
-    assert {Event.PLAYER_UP, Event.TURN_STARTED, Event.BUNKER_HIT} <= events and len(wears) > 20
+            grounds.add((id(world.ground), world.ground.count()))
+            expected = pygame.image.tobytes(afresh.draw(world), "RGB")
+            for drawn in (*(picture.draw(world) for picture in own[slot]),
+                          shared.draw(world, slot=slot), one_slot.draw(world)):
+                assert pygame.image.tobytes(drawn, "RGB") == expected, world.tick
+    assert {Event.PLAYER_UP, Event.TURN_STARTED, Event.BUNKER_HIT, Event.BOMB_BURST,
+            Event.ALIEN_KILLED, Event.SHIP_LOST} <= events
+    assert len(wears) > 20 and len(grounds) > 20
+    kept, over_array = own[1]
     for shield in (0, 3):  # two new worlds' shields, each worn once, in another place
         other = World(seed=6)
         bunker = other.bunkers[shield]
         other.erode(art.mask_of(art.SHOT_BURST), bunker.x + 4, bunker.y)
-        assert other.erosions == 1 and (pygame.image.tobytes(kept.draw(other), "RGB")
-                                         == pygame.image.tobytes(afresh.draw(other), "RGB"))
+        assert other.erosions == 1
+        expected = pygame.image.tobytes(afresh.draw(other), "RGB")
+        assert pygame.image.tobytes(kept.draw(other), "RGB") == expected
+        assert pygame.image.tobytes(over_array.draw(other), "RGB") == expected

@@ -46,8 +46,9 @@ class Games:
     """`SpaceInvadersEnv`s with the same options, and the rows they write. Grey pictures
     made smaller are made together: one picture draws every game's in turn (one canvas and
     one set of sprites and texts, which stay in the cache where a set a game did not: 8
-    games step 1.14 times as fast, the median of 40 rounds in turn, a script), then one
-    Shrink takes them all (and the stacks move on together)."""
+    games step 1.14 times as fast, the median of 40 rounds in turn, a script), each game
+    with a backdrop of its own, then one Shrink takes them all (and the stacks move on
+    together)."""
 
     def __init__(self, count: int, rows: Rows, options: dict[str, Any]) -> None:
         resize = options.get("resize")
@@ -93,7 +94,7 @@ class Games:
             self.rows.obs[i] = env.frame(first)
         else:
             assert env.world is not None
-            self._pixels.tint_into(env.world, self._shrink.picture(i))
+            self._pixels.tint_into(env.world, self._shrink.picture(i), slot=i)
 
     def _shrunk(self, first: np.ndarray) -> None:
         """The games' grey pictures made smaller, each the newest of its game's stack (a

@@ -10,7 +10,6 @@ multiply blend gives (a test holds the two equal pixel for pixel).
 
 from __future__ import annotations
 
-import functools
 import struct
 from math import gcd
 from typing import Any, NamedTuple
@@ -45,7 +44,7 @@ class PixelObserver:
         screen = pygame.image.frombuffer(self.canvas, (SCREEN_W, SCREEN_H), form)
         if grayscale:  # (each byte its own grey: the white sprites land as 255)
             screen.set_palette([(level,) * 3 for level in range(256)])
-        self.picture = Picture(screen, clear=functools.partial(self.canvas.fill, 0))
+        self.picture = Picture(screen, self.canvas)
         gel = _gel_array(self.picture)
         if grayscale:
             weights = np.array(LUMA, dtype=np.uint32)
@@ -63,11 +62,12 @@ class PixelObserver:
         self.picture.draw(world)
         return np.bitwise_and(self.canvas, self.gel, out=self.out)
 
-    def tint_into(self, world: World, into: np.ndarray) -> None:
+    def tint_into(self, world: World, into: np.ndarray, slot: int = 0) -> None:
         """The world's grey picture written into `into` (a shrink's float32 place for it,
         the picture's rows reshaped): a lit byte is 255 and any other 0, so its minimum
-        with the gel is the tint, made and converted in one operation."""
-        self.picture.draw(world)
+        with the gel is the tint, made and converted in one operation. `slot`: the
+        picture's backdrop kept for this world (a batch's game's number)."""
+        self.picture.draw(world, slot=slot)
         np.minimum(self.canvas.reshape(into.shape), self.gel.reshape(into.shape), out=into)
 
 

@@ -7,15 +7,14 @@ plain surface, which the window scales and the environment reads as an array.
 
 from __future__ import annotations
 
-import functools
-from collections.abc import Callable
 from typing import NamedTuple
 
+import numpy as np
 import pygame
 
 from invaders.game import art
 from invaders.game.config import SCREEN_H, SCREEN_W
-from invaders.game.entities import BOMB_PICTURES, Bunker, CannonState
+from invaders.game.entities import BOMB_PICTURES, CannonState
 from invaders.game.players import PROMPT
 from invaders.game.world import Phase, World
 from invaders.lab import font
@@ -40,26 +39,38 @@ def gel_surface() -> pygame.Surface:
 
 
 TEXTS_KEPT = 256  # lines of text kept drawn (the score bar's change only with the score)
-SHIELDS_KEPT = 256  # worlds whose shields are kept drawn (a batch draws its games with one)
 
 
 class Picture:
     """The logical screen, its sprites' surfaces and the gel, kept between frames. The
-    screen may be given: a surface over an array's memory (`pygame.image.frombuffer`)
-    makes every drawing land in the array; `clear` then blacks it (SDL fills an 8-bit
-    surface a byte at a time: 80 us, where numpy fills the array in 2). Sprites and texts
-    are made in the screen's pixel format."""
+    screen may be given with the array it is made over (`pygame.image.frombuffer`), so
+    that every drawing lands in the array: numpy then clears and copies it (SDL fills an
+    8-bit surface a byte at a time, 80 us, and blits a 24-bit one at 120 us, where numpy
+    fills or copies either in 2). Sprites and texts are made in the screen's pixel format.
+
+    What changes seldom (the score bar, the bottom line, the ground and the shields) is
+    the backdrop: drawn when what it shows changes (`backdrop_key`), kept, and put back
+    at the start of every other frame (a test draws it afresh in every frame of two
+    games to hold the key)."""
 
     def __init__(self, screen: pygame.Surface | None = None,
-                 clear: Callable[[], object] | None = None) -> None:
+                 canvas: np.ndarray | None = None) -> None:
         self.screen = screen if screen is not None else pygame.Surface((SCREEN_W, SCREEN_H))
-        self.clear = clear or functools.partial(self.screen.fill, BACKGROUND)
+        self.canvas = canvas
         self.gel = gel_surface()
         self._sprites: dict[art.Art, pygame.Surface] = {}
         self._texts: dict[str, pygame.Surface] = {}
         # Each rack row's pictures, by frame (looked up 55 times a frame).
         self._aliens = tuple(tuple(map(self.sprite, frames)) for frames in art.ALIEN_BY_ROW)
-        self._shields: dict[int, Shields] = {}  # by the world's id
+        # Each slot's backdrop: what it shows, and its pixels (an array or a surface).
+        self._backdrops: dict[int, tuple[tuple[object, ...], np.ndarray | pygame.Surface]] = {}
+
+    def clear(self) -> None:
+        """The screen all black."""
+        if self.canvas is not None:
+            self.canvas.fill(0)
+        else:
+            self.screen.fill(BACKGROUND)
 
     def sprite(self, picture: art.Art) -> pygame.Surface:
         surface = self._sprites.get(picture)
@@ -91,11 +102,11 @@ class Picture:
             self._texts[message] = line
         self.screen.blit(line, (x, y))
 
-    def draw(self, world: World, alpha: float = 0.0) -> pygame.Surface:
+    def draw(self, world: World, alpha: float = 0.0, slot: int = 0) -> pygame.Surface:
         """The world in white on black (movers `alpha` of a tick on), not yet tinted: the
-        score bar, the playfield and, once the game is over, its message."""
-        self.clear()
-        self._draw_hud(world)
+        backdrop, the playfield's movers and, once the game is over, its message. `slot`:
+        the backdrop kept to use (a batch drawing its games in turn gives each its own)."""
+        self._draw_backdrop(world, slot)
         self._draw_play(world, alpha)
         if world.phase is Phase.GAME_OVER:
             for message, x, y in game_over_texts(world):
@@ -103,6 +114,23 @@ class Picture:
         for message, x, y in turn_texts(world):
             self.text(message, x, y)
         return self.screen
+
+    def _draw_backdrop(self, world: World, slot: int) -> None:
+        """The score bar, the bottom line, the ground and the shields: the slot's kept
+        ones, or drawn and kept if what they show has changed."""
+        shows = backdrop_key(world)
+        kept = self._backdrops.get(slot)
+        if kept is not None and kept[0] == shows:
+            if self.canvas is not None:
+                np.copyto(self.canvas, kept[1])
+            else:
+                self.screen.blit(kept[1], (0, 0))
+            return
+        self.clear()
+        self._draw_hud(world)
+        self._draw_shields(world)
+        pixels = self.canvas.copy() if self.canvas is not None else self.screen.copy()
+        self._backdrops[slot] = (shows, pixels)
 
     def draw_card(self, world: World, texts: list[tuple[str, int, int]],
                   pictures: list[tuple[art.Art, int, int]],
@@ -133,18 +161,12 @@ class Picture:
             self.screen.blit(cannon, (24 + 16 * i, 240))
 
     def _draw_shields(self, world: World) -> None:
-        if not world.bunkers:
-            return
-        kept = self._shields.get(id(world))
-        if kept is None or not kept.still(world):  # (a world made since in its place, too)
-            if len(self._shields) >= SHIELDS_KEPT:
-                self._shields.clear()
-            kept = self._shields[id(world)] = Shields.of(world, self.screen)
-        self.screen.blit(kept.picture, kept.at)
+        for bunker in world.bunkers:
+            bunker.mask.to_surface(self.screen, setcolor=WHITE, unsetcolor=None,
+                                   dest=(bunker.x, bunker.y))
 
     def _draw_play(self, world: World, alpha: float) -> None:
         blit = self.screen.blit
-        self._draw_shields(world)
         aliens = self._aliens  # the rack in one call (`fblits`: 14 against 40 us for `blits`)
         self.screen.fblits([(aliens[alien.row][alien.frame], (alien.x, alien.top))
                             for alien in world.rack.live_aliens()])
@@ -173,33 +195,6 @@ class Picture:
             blit(self.sprite(art.SAUCER_EXPLOSION), (state.hit_x, lane))
         elif state.hit_steps > 0:
             self.text(str(state.hit_score), state.hit_x + 4, lane)
-
-
-class Shields(NamedTuple):
-    """The shields drawn once, kept while they are unchanged: the same list of bunkers (a
-    new field's shields are a new list) with no erosion since (World.erosions counts every
-    change to their pixels; a test draws them afresh in every frame of a two-player game
-    to hold it). Drawing the four masks each frame took 15 us, a script."""
-
-    bunkers: list[Bunker]
-    erosions: int
-    picture: pygame.Surface  # white on a colour key
-    at: tuple[int, int]
-
-    @classmethod
-    def of(cls, world: World, screen: pygame.Surface) -> Shields:
-        rects = [pygame.Rect(b.x, b.y, b.w, b.h) for b in world.bunkers]
-        area = rects[0].unionall(rects)
-        picture = pygame.Surface(area.size, 0, screen)  # (black)
-        for bunker in world.bunkers:
-            bunker.mask.to_surface(picture, setcolor=WHITE, unsetcolor=None,
-                                   dest=(bunker.x - area.x, bunker.y - area.y))
-        picture.set_colorkey(BACKGROUND, pygame.RLEACCEL)
-        return cls(world.bunkers, world.erosions, picture, area.topleft)
-
-    def still(self, world: World) -> bool:
-        """Whether the world's shields are still these."""
-        return self.bunkers is world.bunkers and self.erosions == world.erosions
 
 
 def death_picture(timer: int, timing) -> art.Art:
@@ -258,6 +253,16 @@ def turn_texts(world: World) -> list[tuple[str, int, int]]:
     if world.phase_timer > PROMPT:
         return [(f"GAME OVER PLAYER<{world.player}>", 32, 224)] if world.out else []
     return [(f"PLAY PLAYER<{world.player}>", 56, 112)]
+
+
+def backdrop_key(world: World) -> tuple[object, ...]:
+    """What the backdrop shows, in values that change whenever it does: the score bar's
+    and the bottom line's texts (the ships' icons follow their count), the ground and its
+    lit pixels (a mask that only loses pixels until a wave draws a new one), the shields'
+    list (a new field's is a new one) and their erosions (World.erosions counts every
+    change to their pixels)."""
+    return (hud_texts(world), world.ground, world.ground.count(), world.bunkers,
+            world.erosions)
 
 
 def shown_ships(world: World) -> int:
