@@ -430,9 +430,24 @@ def test_bad_options_are_refused_in_one_line():
     for options in ({"obs_type": "ram"}, {"frameskip": 0}, {"frameskip": (4, 2)},
                     {"repeat_action_probability": 2.0}, {"render_mode": "window"},
                     {"repeat_action_probability": "0.2"}, {"max_num_frames_per_episode": 1.5},
-                    {"resize": (84, 84, 3)}, {"stack": 0}, {"stack": 4, "obs_type": "state"}):
+                    {"resize": (84, 84, 3)}, {"stack": 0}, {"stack": 4, "obs_type": "state"},
+                    {"mode": 1}, {"mode": "0"}, {"difficulty": 1}, {"difficulty": 0.0}):
         with pytest.raises(ValueError, match=next(iter(options))):
             SpaceInvadersEnv(**options)
+
+
+@pytest.mark.parametrize("cartridge", [{"mode": None, "difficulty": None},
+                                       {"mode": 0, "difficulty": np.int64(0)}])
+def test_ales_default_mode_and_difficulty_are_taken_and_play_the_one_game(cartridge):
+    # (code written for ALE may pass them: the arcade game has no variations to choose)
+    played = []
+    for options in ({}, cartridge):
+        env = gymnasium.make(ENV_ID, obs_type="state", **options)
+        env.reset(seed=2)
+        env.action_space.seed(2)
+        rewards = [env.step(env.action_space.sample())[1] for _ in range(300)]
+        played.append((rewards, env.unwrapped.world.state_hash()))
+    assert played[0] == played[1] and sum(played[0][0]) > 0
 
 
 def test_an_episode_cut_short_is_truncated_not_terminated():

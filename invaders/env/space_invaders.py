@@ -89,9 +89,11 @@ class SpaceInvadersEnv(gym.Env):
                  max_num_frames_per_episode: int | None = MAX_FRAMES,
                  render_mode: str | None = None,
                  record: str | Path | None = None, resize: tuple[int, int] | None = None,
-                 stack: int = 1) -> None:
+                 stack: int = 1, mode: int | None = None, difficulty: int | None = None
+                 ) -> None:
         _check_options(obs_type, frameskip, repeat_action_probability, render_mode, resize,
                        stack, max_num_frames_per_episode)
+        _check_cartridge(mode, difficulty)
         self.obs_type, self.frameskip = obs_type, frameskip
         self.repeat_action_probability = repeat_action_probability
         self.max_num_frames_per_episode = max_num_frames_per_episode
@@ -378,6 +380,16 @@ def _check_options(obs_type: str, frameskip: Any, repeat_action_probability: Any
         raise ValueError(f"stack {stack!r}: 1 to 64 pictures (not with the state)")
     if render_mode not in (None, *SpaceInvadersEnv.metadata["render_modes"]):
         raise ValueError(f"render_mode {render_mode!r}: None, 'human' or 'rgb_array'")
+
+
+def _check_cartridge(mode: Any, difficulty: Any) -> None:
+    """ALE's `mode` and `difficulty` choose among the 2600 cartridge's variations of its
+    game: the arcade game has one, so only ALE's defaults (None, or 0, the cartridge's own
+    default) are taken, as code written for ALE may pass them; any other is refused."""
+    for name, value in (("mode", mode), ("difficulty", difficulty)):
+        if not (value is None or (isinstance(value, (int, np.integer)) and value == 0)):
+            raise ValueError(f"{name} {value!r}: None or 0 (the arcade game has no "
+                             "variations; ALE's are the 2600 cartridge's)")
 
 
 def _record_folder(record: str | Path | None) -> Path | None:
