@@ -102,6 +102,32 @@ def _expected_state(world) -> dict[str, list[float]]:
             "game": [world.score, max(world.ships, 0), world.wave]}
 
 
+def test_every_kept_state_vector_is_the_worlds_fields_read_afresh():
+    """The vector is kept between steps, the aliens' places rewritten where the rack's
+    watch says (tests/test_rack_watch.py): over whole episodes of an autopilot and random
+    moves, with states restored and frame skips of 1 to 30, each is the fields afresh."""
+    kills = 0
+    for frameskip, seed in ((1, 1), (4, 2), ((2, 31), 3)):
+        env = SpaceInvadersEnv(obs_type="state", frameskip=frameskip)
+        draw, pilot = random.Random(seed), Autopilot(seed, "expert")
+        state, _ = env.reset(seed=seed)
+        saved = env.clone_state()
+        for _ in range(3000):
+            expected = _expected_state(env.world)
+            assert list(state) == [v for name, _, _ in STATE_FIELDS for v in expected[name]]
+            bits = pilot.actions(env.world) & (Action.FIRE | Action.LEFT | Action.RIGHT)
+            action = MINIMAL_ACTIONS.index(bits) if draw.random() < 0.8 else draw.randrange(6)
+            if draw.random() < 0.01:
+                saved = env.clone_state()
+            elif draw.random() < 0.01:
+                env.restore_state(saved)
+            state, _, terminated, truncated, info = env.step(action)
+            kills += info["events"].count("ALIEN_KILLED")
+            if terminated or truncated:
+                state, _ = env.reset()
+    assert kills > 150
+
+
 def test_the_state_vector_reads_the_worlds_objects_field_by_field():
     env = SpaceInvadersEnv(obs_type="state", repeat_action_probability=0.0)
     pilot = Autopilot(4, "expert")

@@ -11,6 +11,7 @@ multiply blend gives (a test holds the two equal pixel for pixel).
 from __future__ import annotations
 
 import struct
+from itertools import accumulate
 from math import gcd
 from typing import Any, NamedTuple
 
@@ -18,7 +19,8 @@ import numpy as np
 import pygame
 
 from invaders.game.config import SCREEN_H, SCREEN_W
-from invaders.game.entities import FOOTPRINT_ABOVE, CannonState
+from invaders.game.entities import FOOTPRINT_ABOVE, Alien, CannonState
+from invaders.game.rack import RackWatch
 from invaders.game.world import World
 from invaders.lab.picture import Picture
 
@@ -86,27 +88,74 @@ STATE_HIGH = 1e6  # no field is negative; the score is the largest (the counter 
 
 
 NONE3 = (0.0, 0.0, 0.0)
-_PACKED = struct.Struct(f"={STATE_SIZE}f")  # the vector, as float32 in native order
+# The vector in three parts, each packed as float32 in native order by one call: the part
+# before the aliens (cannon, shot, bombs), the aliens (three numbers a place), the rest.
+_STARTS = dict(zip([name for name, _, _ in STATE_FIELDS],  # (and the end: one more start)
+                   accumulate((count for _, count, _ in STATE_FIELDS), initial=0),
+                   strict=False))
+ALIENS_AT, AFTER_AT = _STARTS["aliens"], _STARTS["saucer"]
+_BEFORE = struct.Struct(f"={ALIENS_AT}f")
+_ALIENS = struct.Struct(f"={AFTER_AT - ALIENS_AT}f")
+_PLACE = struct.Struct("=3f")
+_AFTER = struct.Struct(f"={STATE_SIZE - AFTER_AT}f")
+FLOAT = 4  # bytes
 
 
-def observe_state(world: World, out: np.ndarray) -> np.ndarray:
-    """The game's objects as numbers, written into `out` (float32, STATE_SIZE): one list
-    built in field order, then packed into the array's memory in one call (numpy's own
-    conversion of a list takes about twice as long)."""
-    cannon, shot, flying = world.cannon, world.shot, world.saucer.saucer
+class StateObserver:
+    """The game's objects as numbers, in an array kept between steps (`out`, float32,
+    STATE_SIZE). The parts before and after the aliens are written afresh each time; of
+    the aliens, only the places the rack's watch names (`RackWatch`): those drawn since
+    the last look, about one a frame (an alien moves, appears or changes picture only
+    when the rack draws it), or all of them after a kill, on another rack or the rack
+    hidden. The vector took 5.1 against 9.1 us, a state step 1.12 times as fast (scripts,
+    in turn: the same steps; 21 rounds in fresh processes). A test holds every vector of
+    whole episodes (restored states, skips of up to 30 frames) to the fields read afresh,
+    and the watch's own (tests/test_rack_watch.py) what it names in two-player games."""
+
+    def __init__(self) -> None:
+        self.out = np.zeros(STATE_SIZE, np.float32)
+        self._watch = RackWatch()
+
+    def observe(self, world: World) -> np.ndarray:
+        out, aliens = self.out, world.rack.aliens
+        _BEFORE.pack_into(out, 0, *_before(world))
+        places = self._watch.changed(world.rack)
+        if len(places) == len(aliens):
+            _ALIENS.pack_into(out, ALIENS_AT * FLOAT, *[
+                number for alien in aliens for number in _place(alien)])
+        else:
+            for index in places:
+                _PLACE.pack_into(out, (ALIENS_AT + 3 * index) * FLOAT, *_place(aliens[index]))
+        _AFTER.pack_into(out, AFTER_AT * FLOAT, *_after(world))
+        return out
+
+
+def _before(world: World) -> list[float]:
+    """The cannon, the shot and the bombs."""
+    cannon, shot = world.cannon, world.shot
     values = [cannon.x, 1.0 if cannon.state is ACTIVE else 0.0]
     values += (1.0, shot.x, shot.y) if shot is not None else NONE3
     for slot in world.slots:
         bomb = slot.bomb
         values += (1.0, bomb.x, bomb.y) if bomb is not None else NONE3
-    for alien in world.rack.aliens:  # (`top` read as y + FOOTPRINT_ABOVE: 55 a step)
-        values += (1.0, alien.x, alien.y + FOOTPRINT_ABOVE) if (
-            alien is not None and alien.alive) else NONE3
-    values += (1.0, flying.x) if flying is not None else (0.0, 0.0)
+    return values
+
+
+def _place(alien: Alien | None) -> tuple[float, ...]:
+    """A rack place: 1, x and top while its alien is alive (`top` read as y +
+    FOOTPRINT_ABOVE)."""
+    if alien is not None and alien.alive:
+        return (1.0, alien.x, alien.y + FOOTPRINT_ABOVE)
+    return NONE3
+
+
+def _after(world: World) -> list[float]:
+    """The saucer, the shields and the game's numbers."""
+    flying = world.saucer.saucer
+    values = [1.0, flying.x] if flying is not None else [0.0, 0.0]
     values += [bunker.mask.count() for bunker in world.bunkers]
     values += (world.score, max(world.ships, 0), world.wave)
-    _PACKED.pack_into(out, 0, *values)
-    return out
+    return values
 
 
 def area_weights(size_in: int, size_out: int) -> np.ndarray:

@@ -33,7 +33,7 @@ from invaders.env.observations import (
     PixelObserver,
     Shrink,
     Stack,
-    observe_state,
+    StateObserver,
 )
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG, SCREEN_H, SCREEN_W
@@ -112,7 +112,7 @@ class SpaceInvadersEnv(gym.Env):
         self._stack = Stack(stack, (*shape, 3) if obs_type == "rgb" else shape) if (
             stack > 1) else None
         self.observation_space = _space(obs_type, shape, stack)
-        self._state = np.zeros(STATE_SIZE, np.float32)
+        self._state = StateObserver()
         self._shown: PixelObserver | None = None  # for render(), when observations are not RGB
         self._window = None
         self._record = _record_folder(record)
@@ -305,7 +305,7 @@ class SpaceInvadersEnv(gym.Env):
         copies into its own array. `first`: the episode's first (a stack starts from it)."""
         assert self.world is not None
         if self.obs_type == "state":
-            return observe_state(self.world, self._state)
+            return self._state.observe(self.world)
         if self._shrink is not None:
             self._pixels.tint_into(self.world, self._shrink.picture(0))
             frame = self._shrink.shrink()[0]

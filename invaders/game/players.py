@@ -42,8 +42,3 @@ class Turn:
         return (self.number, self.score, self.ships, self.extra_awarded, self.wave, self.out,
                 kept, b"".join(statehash.mask_bytes(m) for m in self.shields))
 
-
-def hide(rack: Rack) -> None:
-    """The rack leaves the screen with its player (its aliens out of the store): they are
-    drawn again, one a tick from the bottom left, when the player comes back."""
-    rack.cursor = 0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from bisect import bisect_left
+from collections.abc import Sequence
 
 from invaders.engine.store import BodyStore
 from invaders.game import art
@@ -38,6 +39,10 @@ class Rack:
         self.live = len(self.aliens)
         self._live_indices = list(range(self.live))  # in order: the cursor finds the next
         self._extent: tuple[int, int] | None = None  # lit columns' offsets from ref_x
+        # Aliens drawn so far, and breaks in the cursor's walk (a kill, the rack hidden):
+        # what a RackWatch compares between two looks.
+        self.draws = 0
+        self.breaks = 0
 
     def live_aliens(self) -> list[Alien]:
         """Live aliens on the screen (drawn at least once), in index order."""
@@ -58,7 +63,14 @@ class Rack:
         self.live -= 1
         self._live_indices.remove(alien.index)
         self._extent = None
+        self.breaks += 1
         store.remove(alien)
+
+    def hide(self) -> None:
+        """The rack leaves the screen with its player (its aliens taken out of the store):
+        they are drawn again, one a tick from the bottom left, when the player comes back."""
+        self.cursor = 0
+        self.breaks += 1
 
     def step(self, store: BodyStore) -> Alien | None:
         """Draw the next live alien at its place relative to the reference; wrap if last."""
@@ -82,9 +94,19 @@ class Rack:
         store.move(alien, self.ref_x + g.cell * col,
                    self.ref_top - g.cell * row - FOOTPRINT_ABOVE)
         self.cursor = index + 1
+        self.draws += 1
         if at == len(live) - 1:  # the last live one
             self._wrap()
         return alien
+
+    def last_drawn(self, count: int) -> list[int]:
+        """The indices of the last `count` aliens drawn, newest first. The cursor walks the
+        live aliens in index order, so they are the `count` live ones before it (wrapping
+        round): true while the walk has not broken since (`breaks`) and `count` is under
+        the live count."""
+        live = self._live_indices
+        at = bisect_left(live, self.cursor)
+        return [live[at - back] for back in range(1, count + 1)]  # (a negative index wraps)
 
     def next_index(self) -> int | None:
         """The index of the alien the next step draws (None with no live aliens)."""
@@ -123,3 +145,24 @@ class Rack:
                 right = max(right, cell * alien.col + hi)
             self._extent = (left, right)
         return self.ref_x + self._extent[0], self.ref_x + self._extent[1]
+
+
+class RackWatch:
+    """Which of a rack's places (alien indices) may have changed since the last look, for
+    an observer that keeps what it made of them: only the aliens drawn since, while the
+    same rack has drawn fewer than its live aliens and its walk has not broken; otherwise
+    every place (another rack, a kill, the rack hidden, many draws)."""
+
+    def __init__(self) -> None:
+        self._rack: Rack | None = None
+        self._draws = self._breaks = 0
+
+    def changed(self, rack: Rack) -> Sequence[int]:
+        """The places to look at again, and note the rack as seen now."""
+        count = rack.draws - self._draws
+        if rack is self._rack and rack.breaks == self._breaks and count < rack.live:
+            places: Sequence[int] = rack.last_drawn(count)
+        else:
+            places = range(len(rack.aliens))
+        self._rack, self._draws, self._breaks = rack, rack.draws, rack.breaks
+        return places

@@ -42,7 +42,7 @@ from invaders.game.entities import (
 )
 from invaders.game.events import Event
 from invaders.game.kinds import THINGS, Kind
-from invaders.game.players import PROMPT, SWITCH_TICKS, Turn, hide
+from invaders.game.players import PROMPT, SWITCH_TICKS, Turn
 from invaders.game.rack import Rack
 from invaders.game.rules import make_rules
 
@@ -555,7 +555,7 @@ class World:
         self.waiting = Turn(self.player, self.score, self.ships, self.extra_awarded, self.wave,
                             self.rack, [bunker.mask for bunker in self.bunkers], out=self.out)
         self._clear_field()
-        hide(self.rack)
+        self.rack.hide()
         self.shot, self.slots, self.explosions, self.bunkers = None, bombs.new_slots(), [], []
         self.saucer = saucer.SaucerState(timer=self.config.timing.saucer_timer)
         self.player, self.score, self.ships = waiting.number, waiting.score, waiting.ships
