@@ -55,8 +55,10 @@ def test_the_actions_are_ales_minimal_set_in_ales_order():
 
 
 def _picture_in_the_window(world) -> np.ndarray:
+    """The window's picture at the end of the last tick (alpha 1: the movers where the
+    world has them)."""
     target = pygame.Surface((224, 256))
-    Renderer(scale=1).draw(target, world)
+    Renderer(scale=1).draw(target, world, alpha=1.0)
     return pygame.surfarray.array3d(target).transpose(1, 0, 2)
 
 
@@ -84,6 +86,29 @@ def test_pixel_observations_are_the_windows_picture_pixel_for_pixel():
         grey_seen = _play(grey, 5, steps)[-1][0]
         luma = (window.astype(np.uint32) @ np.array([299, 587, 114]) + 500) // 1000
         assert np.array_equal(grey_seen, luma.astype(np.uint8))
+
+
+def test_the_pictures_movers_are_where_the_state_has_them():
+    """The shot, frame by frame from over the cannon (rows 216 on) to under the rack: its
+    four lit rows are the state's, not where it was a tick before (the window's picture
+    at a tick's start shows that). The cannon's column at the left is clear of shields."""
+    env = SpaceInvadersEnv(obs_type="grayscale", frameskip=1, repeat_action_probability=0.0)
+    env.reset(seed=0)
+    while env.world.cannon.state is not CannonState.ACTIVE:
+        env.step(0)
+    flights = 0
+    for _ in range(3):
+        seen, *_ = env.step(1)  # FIRE
+        while env.world.shot is not None and env.world.shot.y > 150:
+            shot = env.world.shot
+            if shot.y + 8 <= 216:
+                column = seen[shot.y - 4:shot.y + 8, shot.x] > 0
+                assert list(column) == [False] * 4 + [True] * 4 + [False] * 4, shot.y
+                flights += 1
+            seen, *_ = env.step(0)
+        for _ in range(80):
+            env.step(0)
+    assert flights > 20
 
 
 def _expected_state(world) -> dict[str, list[float]]:

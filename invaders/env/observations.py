@@ -25,6 +25,9 @@ from invaders.game.world import World
 from invaders.lab.picture import Picture
 
 ACTIVE = CannonState.ACTIVE
+# The movers where the world has them: the window's picture at the end of the last tick
+# (its alpha 0 is the tick's start, where they were before it: a tick behind the state).
+NOW = 1.0
 # ITU-R BT.601 luma, in integers: the grey a monochrome monitor would show for each colour.
 LUMA = (299, 587, 114)
 
@@ -61,7 +64,7 @@ class PixelObserver:
 
     def observe(self, world: World) -> np.ndarray:
         """The world's picture in `out` (the same array each time: copy it to keep it)."""
-        self.picture.draw(world)
+        self.picture.draw(world, NOW)
         return np.bitwise_and(self.canvas, self.gel, out=self.out)
 
     def tint_into(self, world: World, into: np.ndarray, slot: int = 0) -> None:
@@ -69,7 +72,7 @@ class PixelObserver:
         the picture's rows reshaped): a lit byte is 255 and any other 0, so its minimum
         with the gel is the tint, made and converted in one operation. `slot`: the
         picture's backdrop kept for this world (a batch's game's number)."""
-        self.picture.draw(world, slot=slot)
+        self.picture.draw(world, NOW, slot=slot)
         np.minimum(self.canvas.reshape(into.shape), self.gel.reshape(into.shape), out=into)
 
 
