@@ -8,7 +8,9 @@ import pygame
 from invaders.app.cli import main
 from invaders.app.render import Renderer
 from invaders.game import art
+from invaders.game.config import GameConfig, Speeds
 from invaders.game.events import Event
+from invaders.game.rack import pictures_apart
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
 from invaders.lab.picture import Picture
@@ -274,20 +276,29 @@ class _DrawnAfresh(Picture):
         self._draw_shields(world)
 
 
-def _canvas_picture() -> Picture:
+def _canvas_picture(grey: bool = False) -> Picture:
+    """A picture over an array, as the environment's: RGB, or a byte a pixel (grey)."""
+    if grey:
+        canvas = np.zeros((256, 224), np.uint8)
+        screen = pygame.image.frombuffer(canvas, (224, 256), "P")
+        screen.set_palette([(level,) * 3 for level in range(256)])
+        return Picture(screen, canvas)
     canvas = np.zeros((256, 224, 3), np.uint8)
     return Picture(pygame.image.frombuffer(canvas, (224, 256), "RGB"), canvas)
 
 
-def test_the_kept_backdrop_is_the_backdrop_drawn_afresh_in_every_frame_of_two_games():
+def test_the_kept_backdrop_and_rack_are_the_picture_drawn_afresh_in_every_frame_of_two_games():
     # (The kept backdrop relies on its key: the texts, the ground only losing pixels while
     # it is the same mask, a new field's shields being a new list and World.erosions
-    # counting every change to their pixels. Each game has its pictures, a plain one and
-    # one over an array as the environment's; one more draws both games in turn, each
-    # with a slot of its own, as a batch of games does, and one more in one slot.)
+    # counting every change to their pixels; the kept rack of a picture over an array on
+    # the rack's watch and its aliens never sharing a pixel. Each game has its pictures, a
+    # plain one and two over an array as the environment's, RGB and grey; one more draws
+    # both games in turn, each with a slot of its own, as a batch of games does, and two
+    # more in one slot.)
     worlds = [(World(seed=5, players=2), Autopilot(5)), (World(seed=7), Autopilot(7))]
-    own = [(Picture(), _canvas_picture()) for _ in worlds]
-    shared, one_slot, afresh = _canvas_picture(), Picture(), _DrawnAfresh()
+    own = [(Picture(), _canvas_picture(), _canvas_picture(grey=True)) for _ in worlds]
+    shared, afresh = _canvas_picture(), _DrawnAfresh()
+    one_slot = (Picture(), _canvas_picture())
     events, wears, grounds = set(), set(), set()
     for _ in range(3000):
         for slot, (world, pilot) in enumerate(worlds):
@@ -295,13 +306,14 @@ def test_the_kept_backdrop_is_the_backdrop_drawn_afresh_in_every_frame_of_two_ga
             wears.add(world.erosions)
             grounds.add((id(world.ground), world.ground.count()))
             expected = pygame.image.tobytes(afresh.draw(world), "RGB")
-            for drawn in (*(picture.draw(world) for picture in own[slot]),
-                          shared.draw(world, slot=slot), one_slot.draw(world)):
+            for drawn in (*(picture.draw(world) for picture in (*own[slot], *one_slot)),
+                          shared.draw(world, slot=slot)):
                 assert pygame.image.tobytes(drawn, "RGB") == expected, world.tick
     assert {Event.PLAYER_UP, Event.TURN_STARTED, Event.BUNKER_HIT, Event.BOMB_BURST,
             Event.ALIEN_KILLED, Event.SHIP_LOST} <= events
     assert len(wears) > 20 and len(grounds) > 20
-    kept, over_array = own[1]
+    assert all(len(picture._layers) == 1 for picture in (*own[0][1:], one_slot[1]))
+    kept, over_array, _ = own[1]
     for shield in (0, 3):  # two new worlds' shields, each worn once, in another place
         other = World(seed=6)
         bunker = other.bunkers[shield]
@@ -310,3 +322,33 @@ def test_the_kept_backdrop_is_the_backdrop_drawn_afresh_in_every_frame_of_two_ga
         expected = pygame.image.tobytes(afresh.draw(other), "RGB")
         assert pygame.image.tobytes(kept.draw(other), "RGB") == expected
         assert pygame.image.tobytes(over_array.draw(other), "RGB") == expected
+
+
+def _aliens_share_a_pixel(world: World) -> bool:
+    lit = pygame.mask.Mask((224, 256))
+    for alien in world.rack.live_aliens():
+        picture = art.mask_of(art.ALIEN_BY_ROW[alien.row][alien.frame])
+        if lit.overlap(picture, (alien.x, alien.top)):
+            return True
+        lit.draw(picture, (alien.x, alien.top))
+    return False
+
+
+def test_a_racks_aliens_share_no_pixel_exactly_where_pictures_apart_says_so():
+    """Over an array the rack is kept drawn, aliens taken out and put in, which needs no
+    two to share a pixel: the default rack's never do through its steps and drops; one
+    stepping 8 pixels does, is said not to be apart, and is drawn alien by alien (its
+    picture is the one drawn afresh)."""
+    for speeds, apart in ((Speeds(), True), (Speeds(rack_step=8), False)):
+        config = GameConfig(speeds=speeds)
+        assert pictures_apart(config) is apart
+        world, over_array, afresh = World(seed=3, config=config), _canvas_picture(), _DrawnAfresh()
+        shared, tops = False, set()
+        for _ in range(4000):
+            world.step(0)
+            shared |= _aliens_share_a_pixel(world)
+            tops.add(world.rack.ref_top)
+            expected = pygame.image.tobytes(afresh.draw(world), "RGB")
+            assert pygame.image.tobytes(over_array.draw(world), "RGB") == expected
+        assert shared is not apart and len(tops) > 2
+        assert len(over_array._layers) == apart

@@ -166,3 +166,16 @@ class RackWatch:
             places = range(len(rack.aliens))
         self._rack, self._draws, self._breaks = rack, rack.draws, rack.breaks
         return places
+
+
+def pictures_apart(config: GameConfig) -> bool:
+    """Whether no two of a rack's aliens can share a lit pixel. Every live alien was drawn
+    at the reference as it is or as it was before its last move (a step, or at an edge a
+    step back and a drop): a row's aliens are a cell apart, at most a step out of line,
+    so the widest picture's lit columns and the largest step must fit in a cell; rows are
+    a cell apart, at most a drop out of line, so a picture's height and the drop must."""
+    g, s = config.geometry, config.speeds
+    widest = max(hi - lo + 1 for lo, hi in art.ALIEN_LIT_COLUMNS.values())
+    height = max(len(picture) for pictures in art.ALIEN_BY_ROW for picture in pictures)
+    step = max(s.rack_step, s.rack_step_last_right)
+    return widest + step <= g.cell and height + s.rack_drop <= g.cell

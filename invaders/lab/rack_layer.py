@@ -1,0 +1,66 @@
+"""The rack drawn in a layer of its own, kept between frames and changed where it moved.
+
+A frame of the game moves one alien (the rack draws one a tick), yet a picture drawn
+afresh blits all 55. The layer keeps them drawn: each alien the rack's watch names
+(those drawn since the last frame) is taken out where it was, its lit pixels drawn
+black, and put in where it is; then the rows the aliens cover are laid over the picture
+by a bitwise or. Every lit pixel is white, so the or is the aliens drawn over the
+picture; and while no two aliens share a lit pixel (`rack.pictures_apart`) taking one out
+leaves the others whole. The environment's grey picture took 30.7 against 36.6 us, its RGB
+one 43.1 against 48.3 (a script, the same frames in turn); a grey step 1.11 times as fast,
+an RGB one 1.05 (21 rounds in turn, fresh processes).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pygame
+
+from invaders.game.entities import FOOTPRINT_ABOVE
+from invaders.game.rack import Rack, RackWatch
+
+Sprites = tuple[tuple[pygame.Surface, ...], ...]  # by rack row, then picture frame
+
+
+class RackLayer:
+    """One rack's aliens in an array the shape of a picture's, and a surface over it in
+    the picture's format; `draw` brings it up to date and lays it over a picture."""
+
+    def __init__(self, screen: pygame.Surface, canvas: np.ndarray, sprites: Sprites,
+                 erasers: Sprites) -> None:
+        self.array = np.zeros_like(canvas)
+        form = "P" if canvas.ndim == 2 else "RGB"
+        self.surface = pygame.image.frombuffer(self.array, screen.get_size(), form)
+        if form == "P":
+            self.surface.set_palette(screen.get_palette())
+        self.sprites, self.erasers = sprites, erasers
+        self.watch = RackWatch()
+        self.shown: dict[int, tuple[pygame.Surface, tuple[int, int]]] = {}  # eraser, corner
+        self.rows = (0, 0)  # from the highest alien's top to the lowest one's bottom
+
+    def draw(self, rack: Rack, canvas: np.ndarray) -> None:
+        """The rack's aliens as they are, or'd into the picture's array."""
+        aliens, shown, blit = rack.aliens, self.shown, self.surface.blit
+        places = self.watch.changed(rack)
+        if len(places) == len(aliens):
+            self.array.fill(0)
+            shown.clear()
+            self.rows = (canvas.shape[0], 0)
+        top, bottom = self.rows
+        for index in places:
+            was = shown.pop(index, None)
+            if was is not None:
+                blit(*was)
+            alien = aliens[index]
+            if alien is not None and alien.alive:
+                corner = (alien.x, alien.y + FOOTPRINT_ABOVE)
+                sprite = self.sprites[alien.row][alien.frame]
+                blit(sprite, corner)
+                shown[index] = (self.erasers[alien.row][alien.frame], corner)
+                top = min(top, corner[1])
+                bottom = max(bottom, corner[1] + sprite.get_height())
+        self.rows = (top, bottom)
+        top, bottom = max(top, 0), min(bottom, canvas.shape[0])
+        if top < bottom:
+            band = canvas[top:bottom]
+            np.bitwise_or(band, self.array[top:bottom], out=band)
