@@ -33,7 +33,10 @@ class RackLayer:
         self.surface = pygame.image.frombuffer(self.array, screen.get_size(), form)
         if form == "P":
             self.surface.set_palette(screen.get_palette())
-        self.sprites, self.erasers = sprites, erasers
+        # Copies of its own: SDL keeps how a surface was last blitted (to which surface)
+        # and redoes it, run-length coding and all, for another one, so layers sharing
+        # sprites (a batch's games') would redo it at every blit.
+        self.sprites, self.erasers = _copies(sprites), _copies(erasers)
         self.watch = RackWatch()
         self.shown: dict[int, tuple[pygame.Surface, tuple[int, int]]] = {}  # eraser, corner
         self.rows = (0, 0)  # from the highest alien's top to the lowest one's bottom
@@ -64,3 +67,7 @@ class RackLayer:
         if top < bottom:
             band = canvas[top:bottom]
             np.bitwise_or(band, self.array[top:bottom], out=band)
+
+
+def _copies(sprites: Sprites) -> Sprites:
+    return tuple(tuple(sprite.copy() for sprite in frames) for frames in sprites)
