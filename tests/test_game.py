@@ -246,24 +246,31 @@ def test_the_ground_line_keeps_its_chips_through_a_lost_ship_and_is_drawn_afresh
 def test_a_deep_copy_of_a_world_plays_on_alone_as_the_same_inputs_from_the_start(
         players, broadphase):
     """What the environment's clone_state keeps: the copy plays on as a world given the same
-    inputs from the start, whichever broad phase, and the world copied stays as it was (the
-    pictures the game changes in place, its shields, ground and a waiting player's
-    shields, are its own)."""
+    inputs from the start, tick by tick (its reports, the collision counters too: its
+    detector starts afresh from a copy of the broad phase), whichever broad phase; and the
+    world copied stays as it was (the pictures the game changes in place, its shields,
+    ground and a waiting player's shields, are its own)."""
     world, pilot, inputs = World(5, players=players, broadphase=broadphase), Autopilot(5), []
-
-    def play(on: World) -> None:
-        for _ in range(4000):
-            inputs.append(pilot.actions(on))
-            on.step(inputs[-1])
-
-    play(world)
+    for _ in range(4000):
+        inputs.append(pilot.actions(world))
+        world.step(inputs[-1])
     assert world.ground.count() < 224 and (players == 1 or len(world.waiting.shields) == 4)
-    copied, before = copy.deepcopy(world), Checkpoint.of(world)
-    play(copied)
-    again = World(5, players=players, broadphase=broadphase)
-    for bits in inputs:
-        again.step(bits)
+
+    def replayed() -> World:
+        again = World(5, players=players, broadphase=broadphase)
+        for bits in inputs:
+            again.step(bits)
+        return again
+
+    copied, before, again = copy.deepcopy(world), Checkpoint.of(world), replayed()
+    for _ in range(4000):
+        bits = pilot.actions(copied)
+        assert copied.step(bits) == again.step(bits)
     assert Checkpoint.of(world) == before != Checkpoint.of(copied) == Checkpoint.of(again)
+    other, fresh = Autopilot(6, "expert"), replayed()  # the world copied, on other inputs
+    for _ in range(2000):
+        bits = other.actions(world)
+        assert world.step(bits) == fresh.step(bits)
 
 
 def test_a_bodys_fields_but_its_picture_are_numbers_flags_or_tuples_of_numbers():

@@ -10,7 +10,7 @@ overlap, sorted, so contacts never depend on the choice.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import NamedTuple, Protocol
+from typing import Any, NamedTuple, Protocol
 
 from invaders.engine.body import Body, tick_box
 from invaders.engine.rules import PairRule, Zone
@@ -24,6 +24,10 @@ class KindSets(NamedTuple):
 
     swept: frozenset[int]
     probed: frozenset[int]
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> KindSets:
+        """Itself: made of frozensets (copied with every world, as a detector holds it)."""
+        return self
 
 
 class Scene(Protocol):

@@ -12,9 +12,10 @@ changes outside itself.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Any, Protocol
 
 import pygame
 
@@ -57,6 +58,10 @@ class ZoneIndex:
             for cy in range(zy // c, (zy + zh - 1) // c + 1):
                 for cx in range(zx // c, (zx + zw - 1) // c + 1):
                     self.cells.setdefault((cx, cy), []).append((zx, zy, zx + zw, zy + zh))
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> ZoneIndex:
+        """Itself: never changed once made (copied with every world's detector)."""
+        return self
 
     def within(self, bodies: Sequence[Body], tick: int) -> list[Body]:
         """Those of the bodies whose box over the tick meets the zone, in their order."""
@@ -131,6 +136,24 @@ class Detector:
         # change of a body there; a new plan drops it. (None: nothing kept.)
         self._asked: Sequence[Group] | None = None
         self._answer: Sequence[Pair] = ()
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> Detector:
+        """A detector that detects as this one would, for a copied world: its broad phase
+        and observers copied (what a broad phase keeps decides the candidates, and so the
+        counters), its rules shared; what it works out from a store (the plan, the groups,
+        the last answer) is worked out again at its first tick, from the copied store: the
+        same, being a function of the same bodies (a test compares a copy's reports with
+        a world's given the same inputs from the start)."""
+        clone = object.__new__(Detector)
+        memo[id(self)] = clone
+        clone.__dict__.update(self.__dict__)  # (the rules, the stand-in, the kinds: shared)
+        clone.broadphase = copy.deepcopy(self.broadphase, memo)
+        clone.observers = copy.deepcopy(self.observers, memo)
+        clone._plan = Plan(0, [], [], 0, 0, CollisionStats(), {})
+        clone._grouped, clone._grouped_for = {}, None
+        clone._fed = copy.deepcopy(self._fed, memo)
+        clone._asked, clone._answer = None, ()
+        return clone
 
     def detect(self, store: BodyStore) -> tuple[list[Contact], CollisionStats]:
         """This tick's contacts in (time, low id, high id) order, and the counters: step 1

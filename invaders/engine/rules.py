@@ -60,6 +60,10 @@ class PairRule:
         object.__setattr__(self, "masked", frozenset(masked))
         object.__setattr__(self, "needs_pixels", Shape.MASK in (self.a_shape, self.b_shape))
 
+    def __deepcopy__(self, memo: dict[int, Any]) -> PairRule:
+        """Itself: frozen, and copied with every world (a detector holds its entries)."""
+        return self
+
     def shape_of(self, kind: int) -> Shape:
         return self.a_shape if kind == self.a else self.b_shape
 
