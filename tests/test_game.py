@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 import copy
+import dataclasses
 import itertools
+import types
+from enum import Enum
 
 import pytest
 
 from invaders.engine.adaptive import BROADPHASES, DEFAULT_BROADPHASE
 from invaders.engine.body import _slots
+from invaders.engine.detector import ZoneIndex
 from invaders.game import bombs
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG
@@ -271,6 +275,38 @@ def test_a_deep_copy_of_a_world_plays_on_alone_as_the_same_inputs_from_the_start
     for _ in range(2000):
         bits = other.actions(world)
         assert world.step(bits) == fresh.step(bits)
+
+
+def _unchanging(value: object) -> bool:
+    """A value no one changes in place: a number, a name, a flag, an enum member, a frozen
+    dataclass, a zone index, a function, or a tuple or frozenset of such."""
+    if isinstance(value, (tuple, frozenset)):
+        return all(_unchanging(item) for item in value)
+    frozen = dataclasses.is_dataclass(value) and value.__dataclass_params__.frozen
+    return value is None or frozen or isinstance(
+        value, (int, str, Enum, ZoneIndex, types.FunctionType, types.BuiltinFunctionType))
+
+
+@pytest.mark.parametrize("broadphase", BROADPHASES)
+def test_what_a_worlds_copy_shares_with_it_nothing_changes(broadphase):
+    """The parts of a world with copies of their own making (the world, its store, rack,
+    detector and broad phase) take some fields as they are: those must be values no one
+    changes in place, or the world and its copy would change each other's."""
+    world, pilot = World(5, broadphase=broadphase), Autopilot(5)
+    for _ in range(600):
+        world.step(pilot.actions(world))
+    clone = copy.deepcopy(world)
+    pairs = [(world, clone), (world.store, clone.store), (world.rack, clone.rack),
+             (world.detector, clone.detector),
+             (world.detector.broadphase, clone.detector.broadphase)]
+    active = getattr(world.detector.broadphase, "active", None)
+    if active is not None:
+        pairs.append((active, clone.detector.broadphase.active))
+    for original, copied in pairs:
+        assert copied is not original
+        for name, value in vars(original).items():
+            if getattr(copied, name) is value:
+                assert _unchanging(value), (type(original).__name__, name, value)
 
 
 def test_a_bodys_fields_but_its_picture_are_numbers_flags_or_tuples_of_numbers():

@@ -9,11 +9,12 @@ guesses what changed.
 
 from __future__ import annotations
 
+import copy
 from bisect import bisect_left, insort
 from collections.abc import Iterable
 from itertools import count
 from operator import attrgetter
-from typing import Protocol
+from typing import Any, Protocol
 
 import pygame
 
@@ -46,6 +47,19 @@ class BodyStore:
         # A new value whenever a body is added or removed or a broad phase attached or
         # detached (never one another store had).
         self.membership = next(_memberships)
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> BodyStore:
+        """A copy with bodies of its own (each copied once, through `memo`); its by-id table
+        made from its lists of each kind, which hold the same bodies, rather than copied
+        entry by entry."""
+        clone = object.__new__(BodyStore)
+        memo[id(self)] = clone
+        clone.__dict__.update(self.__dict__)  # (numbers)
+        clone.by_kind = copy.deepcopy(self.by_kind, memo)
+        clone.by_id = {body.id: body for bodies in clone.by_kind.values() for body in bodies}
+        clone.listener = copy.deepcopy(self.listener, memo)
+        clone._buffer = copy.deepcopy(self._buffer, memo)
+        return clone
 
     def attach(self, listener: Listener) -> None:
         """Send every later change to this broad phase (which rebuilds from the store). A

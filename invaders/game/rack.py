@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import copy
 from bisect import bisect_left
 from collections.abc import Sequence
+from typing import Any
 
 from invaders.engine.store import BodyStore
 from invaders.game import art
@@ -43,6 +45,16 @@ class Rack:
         # what a RackWatch compares between two looks.
         self.draws = 0
         self.breaks = 0
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> Rack:
+        """A copy with aliens of its own (each copied once, through `memo`); its numbers,
+        tuples and config taken as they are."""
+        clone = object.__new__(Rack)
+        memo[id(self)] = clone
+        clone.__dict__.update(self.__dict__)
+        clone.aliens = copy.deepcopy(self.aliens, memo)
+        clone._live_indices = list(self._live_indices)
+        return clone
 
     def live_aliens(self) -> list[Alien]:
         """Live aliens on the screen (drawn at least once), in index order."""
