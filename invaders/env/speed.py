@@ -78,7 +78,39 @@ def env_table(rounds: int, section: bool = False) -> int:
             line += (f"   ALE {theirs_type:<9} {_figure(rates['ALE'])}   {said}"
                      f"   goal >= {target:.0f}x: {'met' if met else 'NOT met'}")
         print(line)
+    if with_ale:
+        _clone_row(rounds)
     return 1 if missed + _vector_rows(rounds) else 0
+
+
+def _cloner(env: Any, clone: Callable[[], Any], restore: Callable[[Any], None]
+            ) -> Callable[[int], float]:
+    """Seconds for n clones of the state and restores of it (what a search does at each
+    node), ten steps into an episode."""
+    env.reset(seed=0)
+    for action in CYCLE[:10]:
+        env.step(action)
+
+    def run(n: int) -> float:
+        with no_gc():
+            start = time.perf_counter()
+            for _ in range(n):
+                restore(clone())
+            return time.perf_counter() - start
+
+    return run
+
+
+def _clone_row(rounds: int) -> None:
+    """Cloning and restoring a state (the state vector's environment; ALE's RAM's), ours
+    against ALE's, reported (no goal)."""
+    ours, theirs = gymnasium.make(ENV_ID, obs_type="state"), ale_env("ram")
+    ale = theirs.unwrapped.ale
+    runs = {"ours": _cloner(ours, ours.unwrapped.clone_state, ours.unwrapped.restore_state),
+            "ALE": _cloner(theirs, ale.cloneState, ale.restoreState)}
+    rates = _rates(runs, rounds)
+    print(f"   clone and restore a state: ours {_figure(rates['ours'], 'a second')}   ALE "
+          f"{_figure(rates['ALE'], 'a second')}   {_ratios(rates['ours'], rates['ALE'])[1]}")
 
 
 VECTOR_GOAL = 1.5  # the native batch against Gymnasium's sync vector of single games
@@ -183,6 +215,6 @@ def _rates(runs: dict[str, Callable[[int], float]], rounds: int) -> dict[str, li
     return rates
 
 
-def _figure(rates: list[float]) -> str:
-    return (f"{statistics.median(rates):>7,.0f} steps/s "
+def _figure(rates: list[float], unit: str = "steps/s") -> str:
+    return (f"{statistics.median(rates):>7,.0f} {unit} "
             f"({min(rates):,.0f}..{max(rates):,.0f})")
