@@ -52,6 +52,24 @@ def test_ales_interface_refuses_as_ale_does():
         env.ale.getScreenRGB(np.zeros((256, 224, 3), np.float32))
 
 
+def test_a_search_clones_and_restores_states_through_ales_interface():
+    """`ale.cloneState()` and `ale.restoreState(state)`, as search code written for ALE calls
+    them: the steps after each restore are the steps after the clone (the generator of
+    sticky actions in the state, as ALE's with include_rng)."""
+    env = gymnasium.make(ENV_ID, obs_type="state")
+    env.reset(seed=4)
+    for action in (1, 2, 2, 4, 0):
+        env.step(action)
+    ale = env.unwrapped.ale
+    state = ale.cloneState(include_rng=True)
+    runs = []
+    for _ in range(3):
+        ale.restoreState(state)
+        runs.append([(obs.tolist(), reward, ends, info["collisions"])
+                     for obs, reward, *ends, info in (env.step(a % 6) for a in range(60))])
+    assert runs[0] == runs[1] == runs[2] and ale.getEpisodeFrameNumber() == 5 * 4 + 60 * 4
+
+
 def test_gymnasiums_atari_preprocessing_takes_the_last_two_frames_of_each_step():
     """Gymnasium's own wrapper, as its documentation sets it up on ALE (frame skip 1 in the
     environment, 4 in the wrapper, the RGB observation): each observation is the grey

@@ -1,14 +1,15 @@
 """The part of ALE's interface that training code reads through `env.unwrapped.ale`.
 
 Gymnasium's `AtariPreprocessing` asks ALE for the screen itself (RGB or grey, into arrays
-it keeps) and for the lives; Stable-Baselines3's Atari wrappers ask for the lives. Here
-they read the game: the same pictures the observations are (upright, 256x224, the
-cabinet's gel), and the ships left. Nothing here changes the game.
+it keeps) and for the lives; Stable-Baselines3's Atari wrappers ask for the lives; a search
+clones and restores states. Here they read the game: the same pictures the observations
+are (upright, 256x224, the cabinet's gel), and the ships left; a state is the
+environment's own (`clone_state`). Nothing here but `restoreState` changes the game.
 """
 
 from __future__ import annotations
 
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -31,6 +32,10 @@ class Episode(Protocol):
 
     @property
     def lives(self) -> int: ...
+
+    def clone_state(self, include_rng: bool = False) -> Any: ...
+
+    def restore_state(self, state: Any) -> None: ...
 
 
 class AleView:
@@ -66,6 +71,15 @@ class AleView:
 
     def game_truncated(self) -> bool:
         return self._env.cut_short
+
+    def cloneState(self, include_rng: bool = False) -> Any:
+        """The episode as it stands, for `restoreState` (the environment's `clone_state`:
+        with include_rng, the sticky actions' and frame skips' generator too)."""
+        return self._env.clone_state(include_rng)
+
+    def restoreState(self, state: Any) -> None:
+        """Go back to a state `cloneState` gave (the environment's `restore_state`)."""
+        self._env.restore_state(state)
 
     def getEpisodeFrameNumber(self) -> int:
         return self._env.episode_frame_number
