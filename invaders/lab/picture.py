@@ -23,7 +23,6 @@ from invaders.lab.rack_layer import RackLayer
 
 WHITE = (255, 255, 255, 255)
 BACKGROUND = (0, 0, 0)
-KEY = (1, 1, 1)  # an eraser's unlit pixels, keyed out (never a colour drawn)
 RED_GEL = (255, 64, 64)
 GREEN_GEL = (64, 255, 64)
 # MAME's upright overlay: red over rows 32-61, green over 184-239 and, in the bottom line,
@@ -64,9 +63,8 @@ class Picture:
         self.gel = gel_surface()
         self._sprites: dict[art.Art, pygame.Surface] = {}
         self._texts: dict[str, pygame.Surface] = {}
-        # Each rack row's pictures, by frame (looked up 55 times a frame), and erasers.
+        # Each rack row's pictures, by frame (looked up 55 times a frame).
         self._aliens = tuple(tuple(map(self.sprite, frames)) for frames in art.ALIEN_BY_ROW)
-        self._erasers = tuple(tuple(map(self._eraser, frames)) for frames in art.ALIEN_BY_ROW)
         self._layers: dict[int, RackLayer] = {}  # each slot's rack, where over an array
         self._apart: tuple[object, bool] = (None, False)  # a config, and pictures_apart's
         # Each slot's backdrop: what it shows, and its pixels (an array or a surface).
@@ -93,18 +91,6 @@ class Picture:
         keyed.blit(picture, (0, 0))
         keyed.set_colorkey(BACKGROUND, pygame.RLEACCEL)
         return keyed
-
-    def _eraser(self, picture: art.Art) -> pygame.Surface:
-        """A picture's lit pixels in black, the rest keyed out: blitted where the picture
-        was drawn, it takes the picture out."""
-        mask = art.mask_of(picture)
-        eraser = pygame.Surface(mask.get_size(), 0, self.screen)
-        if eraser.get_bitsize() == 8:  # (a new 8-bit surface has a palette of its own)
-            eraser.set_palette(self.screen.get_palette())
-        eraser.fill(KEY)
-        mask.to_surface(eraser, setcolor=BACKGROUND, unsetcolor=None)
-        eraser.set_colorkey(KEY, pygame.RLEACCEL)
-        return eraser
 
     def text(self, message: str, x: int, y: int) -> None:
         """A line of text at (x, y), its glyphs drawn together once and kept. Kept by its
@@ -194,8 +180,7 @@ class Picture:
         if self.canvas is not None and self._apart[1]:
             layer = self._layers.get(slot)
             if layer is None:
-                layer = self._layers[slot] = RackLayer(self.screen, self.canvas,
-                                                       self._aliens, self._erasers)
+                layer = self._layers[slot] = RackLayer(self.screen, self.canvas, self._aliens)
             layer.draw(world.rack, self.canvas)
             return
         aliens = self._aliens

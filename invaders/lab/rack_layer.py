@@ -16,30 +16,44 @@ from __future__ import annotations
 import numpy as np
 import pygame
 
+from invaders.game import art
 from invaders.game.entities import FOOTPRINT_ABOVE
 from invaders.game.rack import Rack, RackWatch
 
 Sprites = tuple[tuple[pygame.Surface, ...], ...]  # by rack row, then picture frame
+KEY = (1, 1, 1)  # an eraser's unlit pixels, keyed out (never a colour drawn)
 
 
 class RackLayer:
     """One rack's aliens in an array the shape of a picture's, and a surface over it in
     the picture's format; `draw` brings it up to date and lays it over a picture."""
 
-    def __init__(self, screen: pygame.Surface, canvas: np.ndarray, sprites: Sprites,
-                 erasers: Sprites) -> None:
+    def __init__(self, screen: pygame.Surface, canvas: np.ndarray, sprites: Sprites) -> None:
         self.array = np.zeros_like(canvas)
         form = "P" if canvas.ndim == 2 else "RGB"
         self.surface = pygame.image.frombuffer(self.array, screen.get_size(), form)
         if form == "P":
             self.surface.set_palette(screen.get_palette())
-        # Copies of its own: SDL keeps how a surface was last blitted (to which surface)
+        # Sprites of its own: SDL keeps how a surface was last blitted (to which surface)
         # and redoes it, run-length coding and all, for another one, so layers sharing
         # sprites (a batch's games') would redo it at every blit.
-        self.sprites, self.erasers = _copies(sprites), _copies(erasers)
+        self.sprites = tuple(tuple(sprite.copy() for sprite in frames) for frames in sprites)
+        self.erasers = tuple(tuple(map(self._eraser, frames)) for frames in art.ALIEN_BY_ROW)
         self.watch = RackWatch()
         self.shown: dict[int, tuple[pygame.Surface, tuple[int, int]]] = {}  # eraser, corner
         self.rows = (0, 0)  # from the highest alien's top to the lowest one's bottom
+
+    def _eraser(self, picture: art.Art) -> pygame.Surface:
+        """A picture's lit pixels in black, the rest keyed out, in the layer's format:
+        blitted where the picture was drawn, it takes the picture out."""
+        mask = art.mask_of(picture)
+        eraser = pygame.Surface(mask.get_size(), 0, self.surface)
+        if eraser.get_bitsize() == 8:  # (a new 8-bit surface has a palette of its own)
+            eraser.set_palette(self.surface.get_palette())
+        eraser.fill(KEY)
+        mask.to_surface(eraser, setcolor=(0, 0, 0), unsetcolor=None)
+        eraser.set_colorkey(KEY, pygame.RLEACCEL)
+        return eraser
 
     def draw(self, rack: Rack, canvas: np.ndarray) -> None:
         """The rack's aliens as they are, or'd into the picture's array."""
@@ -67,7 +81,3 @@ class RackLayer:
         if top < bottom:
             band = canvas[top:bottom]
             np.bitwise_or(band, self.array[top:bottom], out=band)
-
-
-def _copies(sprites: Sprites) -> Sprites:
-    return tuple(tuple(sprite.copy() for sprite in frames) for frames in sprites)
