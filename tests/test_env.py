@@ -607,6 +607,27 @@ def test_render_gives_the_rgb_picture_whatever_the_observation():
     assert np.array_equal(env.render(), _picture_in_the_window(env.world))
 
 
+@pytest.mark.parametrize("options", [{"obs_type": "rgb"}, {"obs_type": "grayscale"},
+                                     {"obs_type": "state"},
+                                     {"obs_type": "grayscale", "resize": (84, 84), "stack": 4}],
+                         ids=["rgb", "grayscale", "state", "grayscale-84x84x4"])
+def test_what_the_environment_hands_out_is_never_written_again(options):
+    """An agent keeps observations (a replay buffer), pictures rendered and screens read:
+    each array handed out is the caller's, unchanged by the steps after it (the arrays the
+    environment draws and keeps its observations in are its own)."""
+    env = SpaceInvadersEnv(render_mode="rgb_array", **options)
+    obs, _ = env.reset(seed=5)
+    handed = [obs, env.render(), env.ale.getScreenRGB(), env.ale.getScreenGrayscale()]
+    kept = [array.copy() for array in handed]
+    for action in [1, 2, 2, 1, 3, 3, 1, 0] * 6:
+        obs, *_ = env.step(action)
+        handed += [obs, env.render(), env.ale.getScreenRGB(), env.ale.getScreenGrayscale()]
+        kept += [array.copy() for array in handed[-4:]]
+    assert not np.array_equal(handed[0], handed[-4])  # (the steps changed what is seen)
+    assert all(np.array_equal(a, b) for a, b in zip(handed, kept, strict=True))
+    assert len({id(array) for array in handed}) == len(handed)
+
+
 def test_vector_environments_step_worlds_side_by_side():
     envs = gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="sync", obs_type="state")
     obs, _ = envs.reset(seed=[7, 8])
@@ -658,7 +679,7 @@ def test_async_vector_environments_and_gymnasiums_frame_stacking_work_on_it():
     frames, _ = stacked.reset(seed=3)
     frames, *_ = stacked.step(2)
     assert frames.shape == (4, 256, 224) and np.array_equal(
-        frames[-1], stacked.unwrapped._pixels.out)
+        frames[-1], stacked.unwrapped.ale.getScreenGrayscale())
 
 
 @pytest.mark.parametrize("obs_type", ["rgb", "grayscale"])
@@ -682,7 +703,8 @@ def test_gymnasiums_own_grey_resize_and_stack_wrappers_work_on_it(obs_type):
     seen = []
     for action in (1, 2, 2, 3, 1, 0):
         frames, *_ = stacked.step(action)
-        picture = env.unwrapped._pixels.out
+        ale = env.unwrapped.ale  # (the picture of the state the step left)
+        picture = ale.getScreenRGB() if obs_type == "rgb" else ale.getScreenGrayscale()
         newest = shrunk.observation(grey.observation(picture) if obs_type == "rgb" else picture)
         assert stacked.observation_space.contains(frames)
         assert np.array_equal(frames[-1], newest) and newest.max() > 0

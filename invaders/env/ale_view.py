@@ -57,13 +57,13 @@ class AleView:
     def getScreenRGB(self, array: np.ndarray | None = None) -> np.ndarray | None:
         """The picture, (256, 224, 3): a new array, or written into `array` (then None)."""
         self._rgb = self._rgb or PixelObserver(grayscale=False)
-        return _given(self._rgb.observe(self._world()), array)
+        return _into(self._rgb, self._world(), array)
 
     def getScreenGrayscale(self, array: np.ndarray | None = None) -> np.ndarray | None:
         """The grey picture, (256, 224), as `obs_type="grayscale"`: a new array, or written
         into `array` (then None)."""
         self._grey = self._grey or PixelObserver(grayscale=True)
-        return _given(self._grey.observe(self._world()), array)
+        return _into(self._grey, self._world(), array)
 
     def game_over(self, *, with_truncation: bool = True) -> bool:
         return self._world().phase is Phase.GAME_OVER or (with_truncation
@@ -94,14 +94,15 @@ class AleView:
         return world
 
 
-def _given(picture: np.ndarray, array: np.ndarray | None) -> np.ndarray | None:
-    """A copy of the picture, or the picture written into `array`, refused as ALE refuses
-    one of another shape (RuntimeError) or type (TypeError)."""
+def _into(pixels: PixelObserver, world: World, array: np.ndarray | None) -> np.ndarray | None:
+    """The picture in a new array, or written into `array` (then None), refused as ALE
+    refuses one of another shape (RuntimeError) or type (TypeError)."""
     if array is None:
-        return picture.copy()
+        return pixels.observe(world)
     if not isinstance(array, np.ndarray) or array.dtype != np.uint8:
         raise TypeError("the screen goes into a numpy array of uint8")
-    if array.shape != picture.shape:
-        raise RuntimeError(f"Invalid shape {array.shape}, expecting shape {picture.shape}")
-    array[...] = picture
+    shape = pixels.gel.shape
+    if array.shape != shape:
+        raise RuntimeError(f"Invalid shape {array.shape}, expecting shape {shape}")
+    pixels.observe(world, array)
     return None

@@ -2,8 +2,8 @@
 
 The pixel observations come from the same picture the window shows (`invaders.lab.picture`,
 drawn white on black), drawn straight into an array (the picture's surface is made over the
-array's memory) and tinted with the cabinet's gel by one numpy operation into an array kept
-between steps: every drawn pixel is pure white, so the tinted picture is the gel where the
+array's memory) and tinted with the cabinet's gel by one numpy operation into the array
+handed out: every drawn pixel is pure white, so the tinted picture is the gel where the
 pixel is lit (255 & g == g) and black elsewhere (0 & g == 0), exactly what the window's
 multiply blend gives (a test holds the two equal pixel for pixel).
 """
@@ -38,7 +38,8 @@ def _gel_array(picture: Picture) -> np.ndarray:
 
 
 class PixelObserver:
-    """Draws a world and reads it into a kept array: RGB (256, 224, 3) or grey (256, 224).
+    """Draws a world on a kept canvas and tints it into an array: RGB (256, 224, 3) or grey
+    (256, 224).
     The grey is drawn a byte a pixel (an 8-bit surface, white its 255): the tint then
     reads the lit pixels end to end, where every third byte of an RGB picture is a slow
     strided read for numpy (4 against 52 us, a script)."""
@@ -54,7 +55,7 @@ class PixelObserver:
         if grayscale:
             weights = np.array(LUMA, dtype=np.uint32)
             gel = ((gel.astype(np.uint32) @ weights + 500) // 1000).astype(np.uint8)
-        self.gel, self.out = gel, np.zeros(shape, np.uint8)
+        self.gel = gel
         self.grayscale = grayscale
 
     def __deepcopy__(self, memo: dict[int, Any]) -> PixelObserver:
@@ -62,10 +63,13 @@ class PixelObserver:
         each would part (the copy drawing on one and reading the other)."""
         return PixelObserver(self.grayscale)
 
-    def observe(self, world: World) -> np.ndarray:
-        """The world's picture in `out` (the same array each time: copy it to keep it)."""
+    def observe(self, world: World, out: np.ndarray | None = None) -> np.ndarray:
+        """The world's picture, tinted into a new array or into `out` (of its shape and
+        uint8). What is handed out must be the caller's, and a new one costs less than a
+        kept one copied (the tint writes it once, a copy reads it all again): an RGB step
+        1.08 times as fast (15 rounds in turn, fresh processes)."""
         self.picture.draw(world, NOW)
-        return np.bitwise_and(self.canvas, self.gel, out=self.out)
+        return np.bitwise_and(self.canvas, self.gel, out=out)
 
     def tint_into(self, world: World, into: np.ndarray, slot: int = 0) -> None:
         """The world's grey picture written into `into` (a shrink's float32 place for it,

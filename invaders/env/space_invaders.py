@@ -112,6 +112,8 @@ class SpaceInvadersEnv(gym.Env):
         self._stack = Stack(stack, (*shape, 3) if obs_type == "rgb" else shape) if (
             stack > 1) else None
         self.observation_space = _space(obs_type, shape, stack)
+        # The observation is the picture as drawn and tinted: neither shrunk nor stacked.
+        self._picture_alone = obs_type != "state" and resize is None and stack == 1
         self._state = StateObserver()
         self._shown: PixelObserver | None = None  # for render(), when observations are not RGB
         self._window = None
@@ -278,7 +280,7 @@ class SpaceInvadersEnv(gym.Env):
             self._shown = self._shown or PixelObserver(grayscale=False)
             picture = self._shown.observe(self.world)
         if self.render_mode == "rgb_array":
-            return picture.copy()
+            return picture  # (a new array)
         self._show(picture)
         return None
 
@@ -297,12 +299,15 @@ class SpaceInvadersEnv(gym.Env):
         return self._draws.randrange(*self.frameskip)
 
     def _observe(self, first: bool = False) -> np.ndarray:
-        """This step's observation, a copy (the arrays behind it are kept and rewritten)."""
-        return self.frame(first).copy()
+        """This step's observation, an array of its own: the picture alone is tinted into
+        a new one; the state, a shrink and a stack are kept and rewritten, so copied."""
+        frame = self.frame(first)
+        return frame if self._picture_alone else frame.copy()
 
     def frame(self, first: bool = False) -> np.ndarray:
-        """The observation in the array kept for it (rewritten next step): what a batch
-        copies into its own array. `first`: the episode's first (a stack starts from it)."""
+        """The observation: the picture alone in a new array, any other in the array kept
+        for it (rewritten next step); what a batch copies into its own array. `first`: the
+        episode's first (a stack starts from it)."""
         assert self.world is not None
         if self.obs_type == "state":
             return self._state.observe(self.world)
