@@ -21,6 +21,7 @@ import invaders.env  # noqa: F401  (registers the id)
 from invaders.app.cli import main
 from invaders.app.render import Renderer
 from invaders.atomic import write_new
+from invaders.env.games import EVENTS_KEPT
 from invaders.env.observations import STATE_FIELDS, STATE_SIZE
 from invaders.env.space_invaders import MINIMAL_ACTIONS, SpaceInvadersEnv
 from invaders.game.actions import Action
@@ -763,9 +764,18 @@ def _in_lockstep(one, other, seed: int, infos: tuple[str, ...] | None
         assert np.array_equal(o1, o2) and np.array_equal(r1, r2)
         assert np.array_equal(t1, t2) and np.array_equal(u1, u2)
         assert infos is not None or i1.keys() == i2.keys()
-        assert all(np.array_equal(i1[key], i2[key]) for key in infos or i1)
+        assert all(_same(i1[key], i2[key]) for key in infos or i1)
         ends += int(u1.sum())
     return ends, o2
+
+
+def _same(one, other) -> bool:
+    """Two infos' entries equal as Gymnasium merges them: arrays of the same type and
+    values (tuples of names, for events), or dicts of such arrays."""
+    if isinstance(one, dict):
+        return one.keys() == other.keys() and all(_same(one[k], other[k]) for k in one)
+    return one.dtype == other.dtype and one.shape == other.shape and all(
+        a == b for a, b in zip(one.tolist(), other.tolist(), strict=True))
 
 
 @pytest.mark.parametrize("options", [{"obs_type": "state"}, {"obs_type": "grayscale"},
@@ -782,8 +792,28 @@ def test_the_native_vector_environment_steps_as_gymnasiums_sync_one(options):
     assert native.observation_space == sync.observation_space
     if "resize" in options:  # (the batch shrinks and stacks: its games draw full size)
         assert {env.observation_space.shape for env in native.envs} == {(SCREEN_H, SCREEN_W)}
-    ends, _ = _in_lockstep(native, sync, 5, ("lives", "episode_frame_number"))
+    ends, _ = _in_lockstep(native, sync, 5, None)  # (every info: events, counters, seed)
     assert ends == 6  # each game cut at 400 frames, twice in 210 steps
+    native.close()
+    sync.close()
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_the_native_vectors_events_past_what_its_rows_keep_are_given_whole(workers):
+    """A step of 1,000 frames firing has more events than a game's row keeps: they are
+    spilled (on workers, sent by pipe) and the infos are still the sync vector's."""
+    options = {"obs_type": "state", "frameskip": 1000}
+    native = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
+                                workers=workers, **options)
+    sync = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="sync", **options)
+    for venv in (native, sync):
+        venv.reset(seed=4)
+    counts = []
+    for actions in ([1, 4, 5], [5, 1, 4], [4, 5, 1], [1, 1, 1]):
+        (*_, info), (*_, theirs) = native.step(np.array(actions)), sync.step(np.array(actions))
+        assert info.keys() == theirs.keys() and all(_same(info[k], theirs[k]) for k in info)
+        counts += [len(events) for events in info["events"]]
+    assert max(counts) > EVENTS_KEPT and min(counts) <= EVENTS_KEPT
     native.close()
     sync.close()
 

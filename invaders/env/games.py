@@ -12,10 +12,20 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from invaders.engine.stats import STAT_FIELDS
 from invaders.env.observations import PixelObserver, Shrink
-from invaders.env.space_invaders import SpaceInvadersEnv
+from invaders.env.space_invaders import SpaceInvadersEnv, step_counters, step_events
+from invaders.game.events import Event
+from invaders.game.world import TickReport
 
-NUMBERS = ("lives", "episode_frame_number", "frame_number")  # ALE's info, a column each
+# The info's numbers, a column each: ALE's, the world's seed, the step's collision counters,
+# and how many events it had (their codes in the events' rows).
+ALE_NUMBERS = ("lives", "episode_frame_number", "frame_number")
+NUMBERS = (*ALE_NUMBERS, "seed", *STAT_FIELDS, "events")
+# A step's events kept in a game's row, as their codes (an Event's value): a step at frame
+# skip 4 has a few; one with more (a long frame skip) has them spilled instead
+# (`Games.spilled`, which workers send by their pipe).
+EVENTS_KEPT = 32
 
 
 class Rows(NamedTuple):
@@ -26,7 +36,8 @@ class Rows(NamedTuple):
     terminated: np.ndarray  # bool
     truncated: np.ndarray  # bool
     ended: np.ndarray  # bool: terminated or truncated, so the next step resets
-    numbers: np.ndarray  # int64, (games, 3): NUMBERS
+    numbers: np.ndarray  # int64, (games, 15): NUMBERS
+    events: np.ndarray  # uint8, (games, EVENTS_KEPT): the step's events' codes
 
     @staticmethod
     def specs(games: int, obs_shape: tuple[int, ...], obs_dtype: Any
@@ -34,7 +45,8 @@ class Rows(NamedTuple):
         """Each field's shape and dtype, for `games` games."""
         return {"obs": ((games, *obs_shape), obs_dtype), "rewards": ((games,), np.float64),
                 "terminated": ((games,), np.bool_), "truncated": ((games,), np.bool_),
-                "ended": ((games,), np.bool_), "numbers": ((games, len(NUMBERS)), np.int64)}
+                "ended": ((games,), np.bool_), "numbers": ((games, len(NUMBERS)), np.int64),
+                "events": ((games, EVENTS_KEPT), np.uint8)}
 
     @classmethod
     def zeros(cls, games: int, obs_shape: tuple[int, ...], obs_dtype: Any) -> Rows:
@@ -60,13 +72,18 @@ class Games:
         own = {**options, "resize": None, "stack": 1} if resize is not None else options
         self.envs = [SpaceInvadersEnv(**own) for _ in range(count)]
         self.rows = rows
+        # The last step's events of the games whose count is past EVENTS_KEPT, by game.
+        self.spilled: dict[int, list[Event]] = {}
 
     def reset(self, seeds: list[int | None]) -> None:
         rows = self.rows
+        self.spilled = {}
+        notes = []
         for i, (env, seed) in enumerate(zip(self.envs, seeds, strict=True)):
             env.reset(seed=seed)
             self._observe(i, env, first=True)
-            self._note(i, env)
+            notes.append(self._note(i, env, []))
+        rows.numbers[:] = notes
         self._shrunk(np.ones(len(self.envs), np.bool_))
         rows.rewards[:] = 0.0
         rows.terminated[:] = rows.truncated[:] = rows.ended[:] = False
@@ -75,16 +92,20 @@ class Games:
         """One step of every game (actions already checked)."""
         rows = self.rows
         first = rows.ended.copy()  # NEXT_STEP: this step resets these
+        self.spilled = {}
+        notes = []
         for i, (env, action) in enumerate(zip(self.envs, actions, strict=True)):
+            reports: list[TickReport] = []
             if first[i]:
                 env.begin(None)
                 rows.rewards[i], rows.terminated[i], rows.truncated[i] = 0.0, False, False
             else:
-                reward, terminated, truncated, _ = env.advance(action)
+                reward, terminated, truncated, reports = env.advance(action)
                 rows.rewards[i], rows.terminated[i], rows.truncated[i] = (
                     reward, terminated, truncated)
             self._observe(i, env, bool(first[i]))
-            self._note(i, env)
+            notes.append(self._note(i, env, reports))
+        rows.numbers[:] = notes  # (at once: a row at a time costs a conversion a row)
         self._shrunk(first)
         np.logical_or(rows.terminated, rows.truncated, out=rows.ended)
 
@@ -113,5 +134,16 @@ class Games:
         for env in self.envs:
             env.close()
 
-    def _note(self, i: int, env: SpaceInvadersEnv) -> None:
-        self.rows.numbers[i] = (env.lives, env.episode_frame_number, env.frame_number)
+    def _note(self, i: int, env: SpaceInvadersEnv, reports: list[TickReport]
+              ) -> tuple[int, ...]:
+        """Game i's numbers for its row (the step's counters among them), its step's events
+        written in its row of codes (or spilled, past EVENTS_KEPT)."""
+        assert env.world is not None
+        events = step_events(reports)
+        count = len(events)
+        if count > EVENTS_KEPT:
+            self.spilled[i] = events
+        elif count:
+            self.rows.events[i, :count] = events
+        return (env.lives, env.episode_frame_number, env.frame_number, env.world.seed,
+                *step_counters(reports), count)

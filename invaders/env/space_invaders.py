@@ -25,7 +25,7 @@ import numpy as np
 from gymnasium import spaces
 
 from invaders.atomic import write_new
-from invaders.engine.stats import CollisionStats
+from invaders.engine.stats import STAT_FIELDS
 from invaders.env.ale_view import AleView
 from invaders.env.observations import (
     STATE_HIGH,
@@ -37,6 +37,7 @@ from invaders.env.observations import (
 )
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG, SCREEN_H, SCREEN_W
+from invaders.game.events import Event
 from invaders.game.replay import CHECKPOINT_EVERY, Checkpoint, Replay
 from invaders.game.world import SCORE_WRAP, Phase, TickReport, World
 
@@ -61,6 +62,19 @@ MAX_FRAMES = 108_000  # ALE v5's frames an episode (30 minutes at 60 Hz): then t
 def _bits(meaning: str) -> int:
     return (FIRE if "FIRE" in meaning else 0) | (RIGHT if "RIGHT" in meaning else 0) | (
         LEFT if "LEFT" in meaning else 0)
+
+
+def step_events(reports: list[TickReport]) -> list[Event]:
+    """A step's events, its frames' in order (`info["events"]` names them)."""
+    return [event for report in reports for event in report.events]
+
+
+def step_counters(reports: list[TickReport]) -> list[int]:
+    """A step's collision counters, its frames' summed (all 0 for no frame), in the order
+    of `CollisionStats`' fields (`info["collisions"]`)."""
+    if not reports:
+        return [0] * len(STAT_FIELDS)
+    return list(map(sum, zip(*[report.stats for report in reports], strict=True)))
 
 
 @dataclass(frozen=True, eq=False)  # (compared as objects: a world has no equality)
@@ -323,12 +337,10 @@ class SpaceInvadersEnv(gym.Env):
     def _info(self, reports: list[TickReport]) -> dict[str, Any]:
         """ALE's fields, the step's events by name and its collision counters summed."""
         assert self.world is not None
-        events = tuple(event.name for report in reports for event in report.events)
-        counters = map(sum, zip(*(report.stats for report in reports), strict=True))
         return {"lives": self.lives, "episode_frame_number": self._episode_frames,
-                "frame_number": self.frame_number, "events": events,
-                "collisions": dict(zip(CollisionStats._fields, counters, strict=True))
-                if reports else dict.fromkeys(CollisionStats._fields, 0),
+                "frame_number": self.frame_number,
+                "events": tuple(event.name for event in step_events(reports)),
+                "collisions": dict(zip(STAT_FIELDS, step_counters(reports), strict=True)),
                 "seed": self.world.seed}
 
     def _note(self, bits: int) -> None:

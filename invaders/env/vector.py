@@ -4,10 +4,11 @@ vectorization_mode="vector_entry_point")`, in this process, or with `workers=W` 
 cores (a share of the games stepped here, each other share on a worker process, the
 arrays in shared memory: workers.py). Autoreset as Gymnasium 1.x's default (`NEXT_STEP`):
 the step after an episode ends resets that game (reward 0, its first observation), the
-others step on. Each game is a `SpaceInvadersEnv`, so each gives what it would alone; the
-batch saves the per-game copies, infos and wrappers of a generic vector environment (and,
-on workers, the pickled infos of Gymnasium's async one), and draws and shrinks its games'
-grey pictures together (games.py).
+others step on. Each game is a `SpaceInvadersEnv`, so each gives what it would alone, and
+the infos are those Gymnasium's vectors merge from its games' (events and counters too);
+the batch saves the per-game copies, the merging of infos and the wrappers of a generic
+vector environment (and, on workers, the pickled infos of Gymnasium's async one), and
+draws and shrinks its games' grey pictures together (games.py).
 """
 
 from __future__ import annotations
@@ -18,9 +19,13 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from invaders.env.games import NUMBERS, Games, Rows
+from invaders.engine.stats import STAT_FIELDS
+from invaders.env.games import ALE_NUMBERS, EVENTS_KEPT, NUMBERS, Games, Rows
 from invaders.env.space_invaders import SpaceInvadersEnv
 from invaders.env.workers import Pool
+from invaders.game.events import Event
+
+EVENT_NAMES = {int(event): event.name for event in Event}
 
 
 class SpaceInvadersVectorEnv(VectorEnv):
@@ -95,10 +100,31 @@ class SpaceInvadersVectorEnv(VectorEnv):
         return array.copy() if self.copy else array
 
     def _infos(self) -> dict[str, Any]:
-        """ALE's per-game numbers as arrays, each with Gymnasium's mask of who has it."""
+        """Each game's info as Gymnasium's sync vector merges them: each number an array,
+        the events an array of each game's tuple of names, the counters a dict of arrays,
+        each with Gymnasium's mask of who has it (every game)."""
         present = np.ones(self.num_envs, np.bool_)
+        columns = dict(zip(NUMBERS, self._rows.numbers.T.copy(), strict=True))  # (the caller's)
         infos: dict[str, Any] = {}
-        for column, key in enumerate(NUMBERS):
-            infos[key] = self._rows.numbers[:, column].copy()
-            infos[f"_{key}"] = present
+        for key in ALE_NUMBERS:
+            infos[key], infos[f"_{key}"] = columns[key], present
+        infos["events"], infos["_events"] = self._events(columns["events"].tolist()), present
+        collisions: dict[str, Any] = {}
+        for key in STAT_FIELDS:
+            collisions[key], collisions[f"_{key}"] = columns[key], present
+        infos["collisions"], infos["_collisions"] = collisions, present
+        infos["seed"], infos["_seed"] = columns["seed"], present
         return infos
+
+    def _events(self, counts: list[int]) -> np.ndarray:
+        """Each game's step's events by name (given how many), from its row of codes (most
+        have none) or spilled."""
+        events = np.empty(self.num_envs, object)
+        rows, spilled = self._rows.events, self._games.spilled
+        for i, count in enumerate(counts):
+            if count:
+                codes = spilled[i] if count > EVENTS_KEPT else rows[i, :count].tolist()
+                events[i] = tuple(EVENT_NAMES[code] for code in codes)
+            else:
+                events[i] = ()
+        return events

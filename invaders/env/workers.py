@@ -84,8 +84,9 @@ class _Worker:
         self.process.join(timeout=ALIVE_CHECK)
         return WorkerEnded(f"a games worker ended (exit code {self.process.exitcode})")
 
-    def answer(self) -> str | None:
-        """After a command: None, or what went wrong in the worker."""
+    def answer(self) -> str | dict[int, list[int]] | None:
+        """After a command: None, what went wrong in the worker, or after a step the
+        events its games spilled (by game, counted among all the games)."""
         if not _spin_then_take(self.done):
             while not self.done.acquire(timeout=ALIVE_CHECK):
                 if not self.process.is_alive():
@@ -115,6 +116,7 @@ class Pool:
         self._workers = [_Worker(ctx, raws, specs, start, stop, options)
                          for start, stop in others]
         self._here = Games(self._mine, _share(self.rows, 0, self._mine), options)
+        self.spilled: dict[int, list[int]] = {}  # the last step's, as `Games.spilled`
         self._waiting = False  # a command sent whose answers were not all taken
         try:
             self._ask("start", [None] * len(others))
@@ -170,11 +172,15 @@ class Pool:
             if own is not None:
                 own()
         finally:  # (every worker's answer taken, so none is left for the next command)
-            failures = [answer for answer in map(_Worker.answer, self._workers)
-                        if answer is not None]
+            answers = [answer for answer in map(_Worker.answer, self._workers)
+                       if answer is not None]
             self._waiting = False
+        failures = [answer for answer in answers if isinstance(answer, str)]
         if failures:
             raise RuntimeError(f"a games worker failed: {failures[0]}")
+        self.spilled = {i: list(events) for i, events in self._here.spilled.items()}
+        for answer in answers:
+            self.spilled.update(answer)
 
 
 def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Specs,
@@ -193,6 +199,9 @@ def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Spe
                 games = Games(stop - start, _share(rows, start, stop), options)
             elif command == "step" and games is not None:
                 games.step(actions[start:stop].tolist())
+                if games.spilled:  # (events past what the rows keep: rare)
+                    conn.send({start + i: [int(event) for event in events]
+                               for i, events in games.spilled.items()})
             elif command == "reset" and games is not None:
                 games.reset(argument)
             elif command == "close" and games is not None:
