@@ -8,6 +8,7 @@ import copy
 import errno
 import os
 import random
+import threading
 import types
 
 import gymnasium
@@ -27,6 +28,7 @@ from invaders.env.space_invaders import MINIMAL_ACTIONS, SpaceInvadersEnv
 from invaders.game.actions import Action
 from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.entities import CannonState
+from invaders.game.events import Event
 from invaders.game.replay import load
 from invaders.game.world import Phase
 from invaders.lab.autopilot import Autopilot
@@ -836,6 +838,27 @@ def test_the_native_vector_on_worker_processes_steps_as_in_one_process(options):
     apart.close()
     with pytest.raises(AttributeError):
         apart.unwrapped.envs  # noqa: B018  (the games are not in this process)
+
+
+def test_a_workers_spill_of_any_size_arrives_without_a_wait(monkeypatch):
+    """A worker sends its spilled events after its answer: a message larger than a pipe
+    holds (here 300,000 events a game, as a step of millions of frames might have) would
+    otherwise wait for a caller that waits for the answer. Forked workers have the
+    patched count of events; the step must come back, every event given."""
+    huge = [Event.SHOT_FIRED] * 300_000
+    monkeypatch.setattr("invaders.env.games.step_events",
+                        lambda reports: huge if reports else [])
+    envs = gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
+                              workers=2, context="fork", obs_type="state")
+    envs.reset(seed=1)
+    done: list = []
+    stepper = threading.Thread(target=lambda: done.append(envs.step(np.array([1, 1]))),
+                               daemon=True)
+    stepper.start()
+    stepper.join(timeout=60)
+    assert done, "the step waited on a worker's spill"
+    assert [len(events) for events in done[0][4]["events"]] == [300_000, 300_000]
+    envs.close()
 
 
 def test_a_workers_failure_is_raised_in_the_caller_and_bad_actions_and_counts_refused():

@@ -22,6 +22,7 @@ from invaders.game.world import TickReport
 # and how many events it had (their codes in the events' rows).
 ALE_NUMBERS = ("lives", "episode_frame_number", "frame_number")
 NUMBERS = (*ALE_NUMBERS, "seed", *STAT_FIELDS, "events")
+EVENT_COUNT = NUMBERS.index("events")
 # A step's events kept in a game's row, as their codes (an Event's value): a step at frame
 # skip 4 has a few; one with more (a long frame skip) has them spilled instead
 # (`Games.spilled`, which workers send by their pipe).

@@ -21,7 +21,8 @@ from typing import Any
 
 import numpy as np
 
-from invaders.env.games import Games, Rows
+from invaders.env.games import EVENT_COUNT, EVENTS_KEPT, Games, Rows
+from invaders.game.events import Event
 
 Specs = dict[str, tuple[tuple[int, ...], Any]]  # each shared array's shape and dtype
 SPIN_SECONDS = 0.001  # how long a waiting process spins before it sleeps
@@ -80,13 +81,21 @@ class _Worker:
                 raise self.ended() from None
         self.go.release()
 
+    def spilled(self) -> dict[int, list[int]]:
+        """The events its games spilled this step (by game, counted among all the games),
+        which it sends after its answer."""
+        try:
+            return self.conn.recv()
+        except EOFError:
+            raise self.ended() from None
+
     def ended(self) -> WorkerEnded:
         self.process.join(timeout=ALIVE_CHECK)
         return WorkerEnded(f"a games worker ended (exit code {self.process.exitcode})")
 
     def answer(self) -> str | dict[int, list[int]] | None:
         """After a command: None, what went wrong in the worker, or after a step the
-        events its games spilled (by game, counted among all the games)."""
+        events its games spilled if they came already (see `spilled`)."""
         if not _spin_then_take(self.done):
             while not self.done.acquire(timeout=ALIVE_CHECK):
                 if not self.process.is_alive():
@@ -171,16 +180,30 @@ class Pool:
         try:
             if own is not None:
                 own()
-        finally:  # (every worker's answer taken, so none is left for the next command)
-            answers = [answer for answer in map(_Worker.answer, self._workers)
-                       if answer is not None]
+        finally:  # (every answer taken, spills too, so none is left for the next command)
+            answers = [worker.answer() for worker in self._workers]
+            spilled = self._spills(answers) if command == "step" else {}
             self._waiting = False
         failures = [answer for answer in answers if isinstance(answer, str)]
         if failures:
             raise RuntimeError(f"a games worker failed: {failures[0]}")
         self.spilled = {i: list(events) for i, events in self._here.spilled.items()}
-        for answer in answers:
-            self.spilled.update(answer)
+        self.spilled.update(spilled)
+
+    def _spills(self, answers: list[str | dict[int, list[int]] | None]
+                ) -> dict[int, list[int]]:
+        """The events the workers' games spilled this step: a worker sends them after its
+        answer (a message of any size would wait on a caller still waiting for the
+        answer), where its games' rows count more than they keep."""
+        counts = self.rows.numbers[:, EVENT_COUNT]
+        spilled: dict[int, list[int]] = {}
+        for worker, (start, stop), answer in zip(self._workers, self._shares, answers,
+                                                 strict=True):
+            if isinstance(answer, dict):
+                spilled.update(answer)
+            elif answer is None and counts[start:stop].max() > EVENTS_KEPT:
+                spilled.update(worker.spilled())
+        return spilled
 
 
 def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Specs,
@@ -194,14 +217,13 @@ def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Spe
         if not _spin_then_take(go):
             go.acquire()
         command, argument = conn.recv() if conn.poll() else ("step", None)
+        spilled: dict[int, list[Event]] = {}
         try:
             if command == "start":
                 games = Games(stop - start, _share(rows, start, stop), options)
             elif command == "step" and games is not None:
                 games.step(actions[start:stop].tolist())
-                if games.spilled:  # (events past what the rows keep: rare)
-                    conn.send({start + i: [int(event) for event in events]
-                               for i, events in games.spilled.items()})
+                spilled = games.spilled  # (events past what the rows keep: rare)
             elif command == "reset" and games is not None:
                 games.reset(argument)
             elif command == "close" and games is not None:
@@ -209,5 +231,8 @@ def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Spe
         except Exception as error:  # (said to the caller, which raises it)
             conn.send(f"{type(error).__name__}: {error}")
         done.release()
+        if spilled:  # (after the answer: the caller takes them, its rows saying so)
+            conn.send({start + i: [int(event) for event in events]
+                       for i, events in spilled.items()})
         if command == "close":
             return
