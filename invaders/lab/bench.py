@@ -326,129 +326,173 @@ def big_scenes(rounds: int, goal) -> None:
                  figures.ratios("grid", "auto"), BIG_GOALS["auto/grid at 1000"], same)
 
 
-def bench(ticks: int = 3600, seed: int = 7, rounds: int = 10, ale: bool = False,
-          big: bool = False, largest: int | None = None) -> int:
-    replays: list[Replay] = []
-    _, _, frames = play_game(ticks, seed, DEFAULT_BROADPHASE, record=True, recorder=replays)
-    prepared = prepare(frames)
-    n = len(frames)
-    figures = Rounds()
-    found: dict[str, list[set[tuple[int, int]]]] = {}
-    same_contacts = True
+class Goals:
+    """The goals printed so far and how many missed: a goal is met when the median of its
+    rounds reaches its target (and its `extra` condition holds)."""
 
-    def game(name: str) -> None:
-        seconds, timer, _ = play_game(ticks, seed, name, record=False)
-        figures.add(f"{name} ticks/s", ticks / seconds)
-        if name == DEFAULT_BROADPHASE:
-            figures.add("live us", 1e6 * timer.seconds / ticks)
+    def __init__(self, rounds: int) -> None:
+        self.rounds = rounds
+        self.missed = 0
 
-    def share() -> None:
-        figures.add("autopilot share", autopilot_share(ticks, seed))
-
-    def startup() -> None:
-        figures.add("import pygame s", startup_seconds(PYGAME_ONLY))
-        figures.add("run one tick s", startup_seconds(ONE_TICK))
-
-    def replay() -> None:
-        figures.add("replay ticks/s", ticks / replay_seconds(replays[0]))
-
-    def detection() -> None:
-        nonlocal same_contacts
-        seconds, ours, theirs = detection_round(frames, prepared,
-                                                len(figures.values.get("ours us", ())))
-        same_contacts = same_contacts and ours == [frame.contacts for frame in frames]
-        for name, spent in seconds.items():
-            figures.add(f"{name} us", 1e6 * spent / n)
-        found.update(theirs)
-
-    contenders = [lambda: game(DEFAULT_BROADPHASE), lambda: game("grid"), lambda: game("brute"),
-                  replay, share, startup, detection]
-    if ale:
-        from invaders.lab.ale import ale_seconds, emulator
-
-        emulated = emulator(seed)
-        contenders.append(lambda: figures.add("bare ticks/s", ticks / bare_seconds(ticks, seed)))
-        contenders.append(lambda: figures.add("ale frames/s",
-                                              ticks / ale_seconds(emulated, ticks)))
-    for index in range(rounds):
-        for run in contenders if index % 2 == 0 else contenders[::-1]:
-            run()
-
-    print(f"invaders bench: {ticks}-tick autopilot game, seed {seed}, {rounds} interleaved "
-          "rounds: median (lowest..highest round)")
-    missed_goals = 0
-
-    def goal(text: str, per_round: list[float], target: float, extra: bool = True,
-             at_most: bool = False, detail: str | None = None) -> None:
+    def __call__(self, text: str, per_round: list[float], target: float, extra: bool = True,
+                 at_most: bool = False, detail: str | None = None) -> None:
         """A goal of at least `target` (or, `at_most`, no more than it); `detail` replaces
         the count of rounds that missed it."""
-        nonlocal missed_goals
         sign = -1 if at_most else 1
         missed = sum(sign * value < sign * target for value in per_round)
         met = sign * statistics.median(per_round) >= sign * target and extra
-        missed_goals += not met
-        said = detail if detail is not None else f"{missed} of {rounds} rounds missed"
+        self.missed += not met
+        said = detail if detail is not None else f"{missed} of {self.rounds} rounds missed"
         print(f"   goal {text}: {'met' if met else 'NOT met'} ({said})")
 
-    def line(label: str, name: str, unit: str, fmt: str) -> str:
-        return (f"   {label:<44}{format(figures.median(name), fmt):>9} {unit}  "
-                f"{figures.spread(name, fmt)}")
 
-    ours = f"{DEFAULT_BROADPHASE} ticks/s"
+class GameRounds:
+    """Sections 1 to 3's figures: every contender once a round, the order reversed from
+    one round to the next; the contacts each detection found, and whether ours played back
+    found the game's."""
+
+    def __init__(self, ticks: int, seed: int, ale: bool) -> None:
+        self.ticks, self.seed = ticks, seed
+        self.replays: list[Replay] = []
+        _, _, self.frames = play_game(ticks, seed, DEFAULT_BROADPHASE, record=True,
+                                      recorder=self.replays)
+        self.prepared = prepare(self.frames)
+        self.figures = Rounds()
+        self.found: dict[str, list[set[tuple[int, int]]]] = {}
+        self.same_contacts = True
+        self.contenders = [lambda: self.game(DEFAULT_BROADPHASE), lambda: self.game("grid"),
+                           lambda: self.game("brute"), self.replay, self.share,
+                           self.startup, self.detection]
+        if ale:
+            from invaders.lab.ale import ale_seconds, emulator
+
+            emulated = emulator(seed)
+            self.contenders.append(lambda: self.figures.add(
+                "bare ticks/s", ticks / bare_seconds(ticks, seed)))
+            self.contenders.append(lambda: self.figures.add(
+                "ale frames/s", ticks / ale_seconds(emulated, ticks)))
+
+    def run(self, rounds: int) -> Rounds:
+        for index in range(rounds):
+            for contender in self.contenders if index % 2 == 0 else self.contenders[::-1]:
+                contender()
+        return self.figures
+
+    def game(self, name: str) -> None:
+        seconds, timer, _ = play_game(self.ticks, self.seed, name, record=False)
+        self.figures.add(f"{name} ticks/s", self.ticks / seconds)
+        if name == DEFAULT_BROADPHASE:
+            self.figures.add("live us", 1e6 * timer.seconds / self.ticks)
+
+    def share(self) -> None:
+        self.figures.add("autopilot share", autopilot_share(self.ticks, self.seed))
+
+    def startup(self) -> None:
+        self.figures.add("import pygame s", startup_seconds(PYGAME_ONLY))
+        self.figures.add("run one tick s", startup_seconds(ONE_TICK))
+
+    def replay(self) -> None:
+        self.figures.add("replay ticks/s", self.ticks / replay_seconds(self.replays[0]))
+
+    def detection(self) -> None:
+        frames = self.frames
+        seconds, ours, theirs = detection_round(
+            frames, self.prepared, len(self.figures.values.get("ours us", ())))
+        self.same_contacts = self.same_contacts and ours == [f.contacts for f in frames]
+        for name, spent in seconds.items():
+            self.figures.add(f"{name} us", 1e6 * spent / len(frames))
+        self.found.update(theirs)
+
+
+def _line(figures: Rounds, label: str, name: str, unit: str, fmt: str) -> str:
+    """A contender's median and the spread of its rounds."""
+    return (f"   {label:<44}{format(figures.median(name), fmt):>9} {unit}  "
+            f"{figures.spread(name, fmt)}")
+
+
+OURS = f"{DEFAULT_BROADPHASE} ticks/s"
+
+
+def print_game(figures: Rounds, goal: Goals) -> None:
+    """Section 1: the headless game with each broad phase, its replay and its start-up."""
     print("1. headless game")
-    print(line(f"{DEFAULT_BROADPHASE} (the default broad phase)", ours, "ticks/s", ",.0f"))
+    print(_line(figures, f"{DEFAULT_BROADPHASE} (the default broad phase)", OURS, "ticks/s",
+                ",.0f"))
     for name, label in (("grid", "grid"), ("brute", "brute force")):
-        ratio = figures.ratios(ours, f"{name} ticks/s")
-        print(line(label, f"{name} ticks/s", "ticks/s", ",.0f")
+        ratio = figures.ratios(OURS, f"{name} ticks/s")
+        print(_line(figures, label, f"{name} ticks/s", "ticks/s", ",.0f")
               + f"   {DEFAULT_BROADPHASE}/this {statistics.median(ratio):.2f}x")
-    print(line("replay (its recorded inputs, checked)", "replay ticks/s", "ticks/s", ",.0f"))
-    print(line("the autopilot's part of the game", "autopilot share", "", ".1%"))
+    print(_line(figures, "replay (its recorded inputs, checked)", "replay ticks/s", "ticks/s",
+                ",.0f"))
+    print(_line(figures, "the autopilot's part of the game", "autopilot share", "", ".1%"))
     startup_ratio = figures.ratios("run one tick s", "import pygame s")
-    print(line("start-up: invaders run --ticks 1", "run one tick s", "s", ".3f")
+    print(_line(figures, "start-up: invaders run --ticks 1", "run one tick s", "s", ".3f")
           + f"   {statistics.median(startup_ratio):.2f}x import pygame "
             f"({figures.median('import pygame s'):.3f} s)")
-    goal(f"{DEFAULT_BROADPHASE} >= {TPS_GOAL:,} ticks/s", figures.values[ours], TPS_GOAL)
+    goal(f"{DEFAULT_BROADPHASE} >= {TPS_GOAL:,} ticks/s", figures.values[OURS], TPS_GOAL)
     goal(f"start-up <= {STARTUP_GOAL}x python -c 'import pygame'", startup_ratio, STARTUP_GOAL,
          at_most=True)
-    print(f"2. detection per tick on the same {n} recorded frames "
+
+
+def print_detection(played: GameRounds, goal: Goals) -> None:
+    """Section 2: detection per tick, ours against the grid and groupcollide's two ways."""
+    figures, frames = played.figures, played.frames
+    print(f"2. detection per tick on the same {len(frames)} recorded frames "
           f"({_body_count(frames):.0f} bodies a frame on average)")
-    print(line(f"ours ({DEFAULT_BROADPHASE}), frames played back", "ours us", "us", ".2f"))
-    print(line(f"ours ({DEFAULT_BROADPHASE}), inside the running game", "live us", "us", ".2f"))
+    print(_line(figures, f"ours ({DEFAULT_BROADPHASE}), frames played back", "ours us", "us",
+                ".2f"))
+    print(_line(figures, f"ours ({DEFAULT_BROADPHASE}), inside the running game", "live us",
+                "us", ".2f"))
     for name, label in (("grid", "the grid, frames played back"),
                         ("naive", "groupcollide + collide_mask"),
                         ("careful", "groupcollide rects, then collide_mask")):
         ratio = figures.ratios(f"{name} us", "ours us")
-        print(line(label, f"{name} us", "us", ".2f")
+        print(_line(figures, label, f"{name} us", "us", ".2f")
               + f"   {statistics.median(ratio):.1f}x ours ({min(ratio):.1f}..{max(ratio):.1f})")
-    both, swept_only, missed = compare(frames, found["naive"])
-    careful_same = found["careful"] == found["naive"]
+    both, swept_only, missed = compare(frames, played.found["naive"])
+    careful_same = played.found["careful"] == played.found["naive"]
     print(f"   contacts: {both} found by both, {swept_only} only by our swept tests, "
           f"{missed} found by groupcollide alone"
           + ("" if careful_same else "; the careful version found others than the naive"))
-    if not same_contacts:
+    if not played.same_contacts:
         print("   WARNING: played back, our detector found other contacts than in the game")
     goal(f"ours >= {NAIVE_GOAL:.0f}x faster than groupcollide + collide_mask, same contacts",
          figures.ratios("naive us", "ours us"), NAIVE_GOAL,
-         missed == 0 and same_contacts)
+         missed == 0 and played.same_contacts)
+
+
+def print_ale(figures: Rounds, ticks: int, goal: Goals) -> None:
+    """Section 3: ALE's emulated cartridge against our game, its replay and a bare loop."""
+    print(f"3. against the Arcade Learning Environment's Space Invaders (the Atari 2600 "
+          f"cartridge emulated, one frame a step, {ticks} frames a round)")
+    print(_line(figures, "ALE, fixed input cycle", "ale frames/s", "frames/s", ",.0f"))
+    keys = {"autopilot": OURS, "replay": "replay ticks/s", "bare": "bare ticks/s"}
+    for name, label in (("autopilot", "our autopilot game"),
+                        ("replay", "our replay of it, checked"),
+                        ("bare", "our bare step loop, same input cycle")):
+        ratio = figures.ratios(keys[name], "ale frames/s")
+        print(_line(figures, label, keys[name], "ticks/s", ",.0f")
+              + f"   {statistics.median(ratio):.1f}x ALE ({min(ratio):.1f}..{max(ratio):.1f})")
+    for name, target in ALE_GOALS.items():
+        goal(f"{name} >= {target:.0f}x ALE's frames per second",
+             figures.ratios(keys[name], "ale frames/s"), target)
+
+
+def bench(ticks: int = 3600, seed: int = 7, rounds: int = 10, ale: bool = False,
+          big: bool = False, largest: int | None = None) -> int:
+    """The sections asked for, in order; 1 if any goal's median missed it, else 0."""
+    played = GameRounds(ticks, seed, ale)
+    figures = played.run(rounds)
+    print(f"invaders bench: {ticks}-tick autopilot game, seed {seed}, {rounds} interleaved "
+          "rounds: median (lowest..highest round)")
+    goal = Goals(rounds)
+    print_game(figures, goal)
+    print_detection(played, goal)
     if ale:
-        print(f"3. against the Arcade Learning Environment's Space Invaders (the Atari 2600 "
-              f"cartridge emulated, one frame a step, {ticks} frames a round)")
-        print(line("ALE, fixed input cycle", "ale frames/s", "frames/s", ",.0f"))
-        keys = {"autopilot": ours, "replay": "replay ticks/s",
-                "bare": "bare ticks/s"}
-        for name, label in (("autopilot", "our autopilot game"),
-                            ("replay", "our replay of it, checked"),
-                            ("bare", "our bare step loop, same input cycle")):
-            key = keys[name]
-            ratio = figures.ratios(key, "ale frames/s")
-            print(line(label, key, "ticks/s", ",.0f")
-                  + f"   {statistics.median(ratio):.1f}x ALE ({min(ratio):.1f}..{max(ratio):.1f})")
-        for name, target in ALE_GOALS.items():
-            goal(f"{name} >= {target:.0f}x ALE's frames per second",
-                 figures.ratios(keys[name], "ale frames/s"), target)
+        print_ale(figures, ticks, goal)
     if big:
         big_scenes(rounds, goal)
     from invaders.lab.bench_sprites import sprite_table
 
     sprite_table(rounds, goal, big, largest)
-    return 1 if missed_goals else 0
+    return 1 if goal.missed else 0
