@@ -232,49 +232,24 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from invaders.app.headless import Idle, run, use_dummy_drivers
+    from invaders.app.headless import run, use_dummy_drivers
 
     use_dummy_drivers()
     from invaders.app.outputs import REPLAY_SUFFIXES, REPORT_SUFFIXES, check_output, writing
     from invaders.app.signals import StopSignals
-    from invaders.app.summary import summary_lines
 
     if args.report is not None:
         check_output(args.report, "report", REPORT_SUFFIXES)
     if args.record is not None:
         check_output(args.record, "replay", REPLAY_SUFFIXES)
-    from invaders.game.world import World
-
-    if args.cell is not None and args.broadphase not in choices.CELLED:
-        raise UsageError(f"--cell is not used here: the {args.broadphase} broad phase has no "
-                         "cells")
-    world = World(seed=args.seed, broadphase=args.broadphase, cell=args.cell or DEFAULT_CELL,
-                  players=args.players)
-    base = world.config
-    lab = _lab_asked(args)
-    shadow = None
-    if lab or args.shadow:
-        from invaders.lab.live import install
-
-        choice = _lab_choice(args)
-        detector = install(world, choice, base, shadow=args.shadow)
-        shadow = getattr(detector, "shadow", None)
-    source = Idle()
-    if args.autopilot:
-        from invaders.lab.autopilot import Autopilot
-
-        source = Autopilot(args.seed, args.autopilot)
-    recorder = None
-    if args.record is not None:
-        from invaders.app.recording import Recorder
-
-        recorder = Recorder(world, args.record, save_every=3600, config=base)
-        if lab:  # the replay keeps the method, so it plays back as this run went
-            recorder.switch(_lab_choice(args).to_dict())
+    world = _run_world(args)
+    base = world.config  # (the lab's speeds change the world's)
+    shadow = _install_lab(args, world)
+    recorder = _run_recorder(args, world, base)
     with StopSignals() as signals:
         try:
             with writing(args.report or args.record or "", "report or replay"):
-                result = run(world, source, args.ticks, args.report, recorder,
+                result = run(world, _run_source(args), args.ticks, args.report, recorder,
                              stop=lambda: signals.received is not None, columns=shadow)
         finally:
             if recorder is not None:  # the world is between ticks: a whole replay
@@ -285,17 +260,69 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(f"invaders: stopped by {signals.name} at tick {world.tick}{saved}",
               file=sys.stderr)
         return signals.exit_code
+    _print_run(args, world, result, shadow)
+    return 0
+
+
+def _run_world(args: argparse.Namespace):
+    from invaders.game.world import World
+
+    if args.cell is not None and args.broadphase not in choices.CELLED:
+        raise UsageError(f"--cell is not used here: the {args.broadphase} broad phase has no "
+                         "cells")
+    return World(seed=args.seed, broadphase=args.broadphase, cell=args.cell or DEFAULT_CELL,
+                 players=args.players)
+
+
+def _install_lab(args: argparse.Namespace, world):
+    """The lab's method put into the world if one is asked for, and the shadow detector
+    watching it if asked for: the shadow (else None)."""
+    if not (_lab_asked(args) or args.shadow):
+        return None
+    from invaders.lab.live import install
+
+    detector = install(world, _lab_choice(args), world.config, shadow=args.shadow)
+    return getattr(detector, "shadow", None)
+
+
+def _run_source(args: argparse.Namespace):
+    """Where the run's inputs come from: the autopilot, or none pressed."""
+    from invaders.app.headless import Idle
+
+    if not args.autopilot:
+        return Idle()
+    from invaders.lab.autopilot import Autopilot
+
+    return Autopilot(args.seed, args.autopilot)
+
+
+def _run_recorder(args: argparse.Namespace, world, base):
+    """The recorder of the run's replay, if --record asks for one (else None); `base`: the
+    game's config, before the lab's speeds."""
+    if args.record is None:
+        return None
+    from invaders.app.recording import Recorder
+
+    recorder = Recorder(world, args.record, save_every=3600, config=base)
+    if _lab_asked(args):  # the replay keeps the method, so it plays back as this run went
+        recorder.switch(_lab_choice(args).to_dict())
+    return recorder
+
+
+def _print_run(args: argparse.Namespace, world, result, shadow) -> None:
+    """The run's summary, the shadow's score if it watched, and the state hash."""
+    from invaders.app.summary import summary_lines
+
     name = f"autopilot {args.autopilot}" if args.autopilot else "none"
     for line in summary_lines(result, args.seed, args.broadphase, name):
         print(line)
     if shadow is not None:
         score = shadow.finish()
         rate = f"{score.errors / score.true:.4f}" if score.true else "-"
-        print(f"shadow ({choice.label}): {score.true} true contacts; on time "
+        print(f"shadow ({_lab_choice(args).label}): {score.true} true contacts; on time "
               f"{score.on_time}, late {score.late}, missed {score.missed}, false "
               f"{score.false}; {rate} errors per true contact")
     print(world.state_hash())
-    return 0
 
 
 def _lab_asked(args: argparse.Namespace) -> bool:
