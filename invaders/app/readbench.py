@@ -239,53 +239,74 @@ def read_in_fresh_process(path: Path) -> tuple[float, float, int | None]:
     return seconds, megabytes, ticks
 
 
+def _spread_switches(source: Path, path: Path, size: int) -> int:
+    """The most lab switches a replay may hold, as far apart as they go."""
+    with source.open() as lines:
+        every = max(1, sum(1 for _ in lines) // MAX_SWITCHES)
+    return with_switches(source, path, every, size, most=MAX_SWITCHES)
+
+
+COMPACT = {"separators": (",", ":")}
+Writer = Callable[[Path, Path, int], int]  # (the longest replay, the file, its size): ticks
+# The longest valid replay written other valid ways: (file, label, writer), in the order read.
+REWRITES: tuple[tuple[str, str, Writer], ...] = (
+    ("spaced.json", "the same spaced as json.dumps", rewritten),
+    ("switched.json", "the same, a lab switch every 500 lines",
+     lambda source, path, size: with_switches(source, path, size=size)),
+    ("ordered.json", "the same, fields sorted",
+     lambda source, path, size: rewritten(source, path, size, sort_keys=True, **COMPACT)),
+    ("reordered.json", "the same, fields in reverse order",
+     lambda source, path, size: rewritten(source, path, size, reversed_fields, **COMPACT)),
+    ("varied.json", "the same, an order of fields a line",
+     lambda source, path, size: rewritten(source, path, size, order_each_line(), **COMPACT)),
+    ("escaped.json", "the same, every name and digest escaped",
+     lambda source, path, size: rewritten(source, path, size, spelling=escaped, **COMPACT)),
+    ("twice.json", "the same, its counts twice a line",
+     lambda source, path, size: rewritten(source, path, size, spelling=counts_twice,
+                                          **COMPACT)),
+    ("most-switches.json", f"the same, {MAX_SWITCHES:,} lab switches first",
+     lambda source, path, size: with_switches(source, path, 1, size, most=MAX_SWITCHES)),
+    ("spread-switches.json", f"the same, {MAX_SWITCHES:,} lab switches spread",
+     _spread_switches),
+    ("most-runs.json", "the same, the most input runs", most_runs),
+    # (lines as an editor on Windows may save them)
+    ("windows.json", "the same, \\r\\n and blank lines",
+     lambda source, path, size: rewritten(source, path, size, spelling=windows_lines,
+                                          **COMPACT)),
+)
+
+
+def bench_files(folder: Path, size: int) -> dict[str, Path]:
+    """The files the bench reads, written in `folder`, by their labels: the longest valid
+    replay of `size` bytes, the same written other valid ways, and files to refuse."""
+    longest = folder / "longest.json"
+    files = {f"the longest valid replay ({longest_replay(longest, folder, size):,} ticks)":
+             longest}
+    for name, label, write in REWRITES:
+        files[f"{label} ({write(longest, folder / name, size):,})"] = folder / name
+    with longest.open() as lines:
+        files.update(hostile_headers(folder, lines.readline().rstrip("\n"), size))
+    flood = folder / "switches.json"
+    with_switches(longest, flood, 1, size, each=1000, choice=_PADDED)
+    files[f"{size / 2**20:.4g} MB of lab switches"] = flood
+    return files
+
+
 def reading_bench(rounds: int, size: int = MAX_FILE_BYTES) -> tuple[list[str], bool]:
     """The table's lines, and whether every file met the goal (files of `size` bytes)."""
     with tempfile.TemporaryDirectory() as name:
-        folder = Path(name)
-        longest = folder / "longest.json"
-        ticks = longest_replay(longest, folder, size)
-        spaced, ordered = folder / "spaced.json", folder / "ordered.json"
-        switched, reordered = folder / "switched.json", folder / "reordered.json"
-        spaced_ticks = rewritten(longest, spaced, size)
-        switched_ticks = with_switches(longest, switched, size=size)
-        most, flood = folder / "most-switches.json", folder / "switches.json"
-        most_ticks = with_switches(longest, most, 1, size, most=MAX_SWITCHES)
-        spread = folder / "spread-switches.json"  # (the most, as far apart as they go)
-        with longest.open() as lines:
-            every = max(1, sum(1 for _ in lines) // MAX_SWITCHES)
-        spread_ticks = with_switches(longest, spread, every, size, most=MAX_SWITCHES)
-        busy = folder / "most-runs.json"
-        busy_ticks = most_runs(longest, busy, size)
-        with_switches(longest, flood, 1, size, each=1000, choice=_PADDED)
-        compact = {"separators": (",", ":")}
-        windows = folder / "windows.json"  # (lines as an editor on Windows may save them)
-        windows_ticks = rewritten(longest, windows, size, spelling=windows_lines, **compact)
-        ordered_ticks = rewritten(longest, ordered, size, sort_keys=True, **compact)
-        reordered_ticks = rewritten(longest, reordered, size, reversed_fields, **compact)
-        varied, spelt = folder / "varied.json", folder / "escaped.json"
-        varied_ticks = rewritten(longest, varied, size, order_each_line(), **compact)
-        spelt_ticks = rewritten(longest, spelt, size, spelling=escaped, **compact)
-        twice = folder / "twice.json"
-        twice_ticks = rewritten(longest, twice, size, spelling=counts_twice, **compact)
-        files = {f"the longest valid replay ({ticks:,} ticks)": longest,
-                 f"the same spaced as json.dumps ({spaced_ticks:,})": spaced,
-                 f"the same, a lab switch every 500 lines ({switched_ticks:,})": switched,
-                 f"the same, fields sorted ({ordered_ticks:,})": ordered,
-                 f"the same, fields in reverse order ({reordered_ticks:,})": reordered,
-                 f"the same, an order of fields a line ({varied_ticks:,})": varied,
-                 f"the same, every name and digest escaped ({spelt_ticks:,})": spelt,
-                 f"the same, its counts twice a line ({twice_ticks:,})": twice,
-                 f"the same, {MAX_SWITCHES:,} lab switches first ({most_ticks:,})": most,
-                 f"the same, {MAX_SWITCHES:,} lab switches spread ({spread_ticks:,})": spread,
-                 f"the same, the most input runs ({busy_ticks:,})": busy,
-                 f"the same, \\r\\n and blank lines ({windows_ticks:,})": windows,
-                 **hostile_headers(folder, longest.open().readline().rstrip("\n"), size),
-                 f"{size / 2**20:.4g} MB of lab switches": flood}
+        files = bench_files(Path(name), size)
         seen: dict[str, list[tuple[float, float, int | None]]] = {n: [] for n in files}
         for _ in range(rounds):
             for label, path in files.items():
                 seen[label].append(read_in_fresh_process(path))
+    return _table(seen, size, rounds)
+
+
+def _table(seen: dict[str, list[tuple[float, float, int | None]]], size: int, rounds: int
+           ) -> tuple[list[str], bool]:
+    """A line a file (read or refused, its seconds and peak megabytes against the goal)
+    under the heading, and whether every file met the goal."""
     lines = [f"reading files at the size limit ({size:,} bytes), {rounds} rounds "
              f"taking turns, each in a fresh process: seconds to read or refuse, the "
              f"process's peak MB; medians (lowest..highest round); goal {GOAL_SECONDS:g} s, "
