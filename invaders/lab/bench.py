@@ -272,9 +272,6 @@ class FramePlayer:
 def big_scenes(rounds: int, goal) -> None:
     """Section 4: storms of 1,000 and 10,000 bodies, detection per tick in steady state:
     the grid, the numpy broad phase, the automatic choice and pymunk's spatial hash."""
-    from invaders.lab.references import PymunkScene
-    from invaders.lab.runner import SceneSpec, record, scene_rules
-
     try:
         import pymunk  # noqa: F401
         has_pymunk = True
@@ -283,40 +280,10 @@ def big_scenes(rounds: int, goal) -> None:
     print("4. big scenes: storms (no response, so overlaps persist), detection per tick "
           "after the first frame")
     for n in BIG_SIZES:
-        spec = SceneSpec.storm(n, BIG_TICKS[n])
-        frames = record(spec)
-        rules = scene_rules(spec)
-        figures = Rounds()
-        contacts: dict[str, list] = {}
-        for index in range(rounds):
-            players = {name: FramePlayer(name, frames, rules) for name in OURS_BIG}
-            if has_pymunk:
-                players["pymunk"] = PymunkScene(frames, rules)
-            order = list(players) if index % 2 == 0 else list(players)[::-1]
-            seconds = dict.fromkeys(players, 0.0)
-            with no_gc():  # the contenders take turns frame by frame, the order alternating
-                for i in range(1, len(frames)):
-                    for name in order if i % 2 else order[::-1]:
-                        seconds[name] += players[name].frame_seconds(i)
-            for name, spent in seconds.items():
-                figures.add(name, 1e3 * spent / (len(frames) - 1))
-            for name in OURS_BIG:
-                contacts[name] = players[name].found
-        same = contacts["grid"] == contacts["numpy"] == contacts["auto"]
-        print(f"   {n:,} bodies, {len(frames) - 1} ticks"
+        figures, ticks, same = _storm_rounds(n, rounds, has_pymunk)
+        print(f"   {n:,} bodies, {ticks} ticks"
               + ("" if same else ": WARNING the broad phases found different contacts"))
-        for name, label in (("grid", "grid, 32 px"), ("numpy", "numpy broad phase"),
-                            ("auto", "automatic choice"),
-                            ("pymunk", "pymunk spatial hash, boxes only")):
-            if name not in figures.values:
-                continue
-            ratio = figures.ratios("grid", name)
-            print(f"   {label:<44}{figures.median(name):>9.2f} ms  "
-                  f"{figures.spread(name, '.2f')}   grid/this {statistics.median(ratio):.2f}x")
-        if "pymunk" in figures.values:
-            ratio = figures.ratios("pymunk", "numpy")
-            print(f"   {'numpy against pymunk':<44}{statistics.median(ratio):>8.2f}x faster  "
-                  f"({min(ratio):.2f}..{max(ratio):.2f})")
+        _print_storm(figures)
         if n == max(BIG_SIZES):
             if has_pymunk:
                 goal(f"numpy >= {BIG_GOALS['numpy/pymunk']:.0f}x faster than pymunk at {n:,}",
@@ -324,6 +291,53 @@ def big_scenes(rounds: int, goal) -> None:
         else:
             goal(f"the automatic choice no slower than the grid at {n:,} (within 5%)",
                  figures.ratios("grid", "auto"), BIG_GOALS["auto/grid at 1000"], same)
+
+
+def _storm_rounds(n: int, rounds: int, has_pymunk: bool) -> tuple[Rounds, int, bool]:
+    """A storm of `n` bodies detected by each contender, frame by frame in turns: the
+    milliseconds a tick of each round, the ticks timed, and whether our broad phases found
+    the same contacts."""
+    from invaders.lab.references import PymunkScene
+    from invaders.lab.runner import SceneSpec, record, scene_rules
+
+    spec = SceneSpec.storm(n, BIG_TICKS[n])
+    frames = record(spec)
+    rules = scene_rules(spec)
+    figures = Rounds()
+    contacts: dict[str, list] = {}
+    for index in range(rounds):
+        players = {name: FramePlayer(name, frames, rules) for name in OURS_BIG}
+        if has_pymunk:
+            players["pymunk"] = PymunkScene(frames, rules)
+        order = list(players) if index % 2 == 0 else list(players)[::-1]
+        seconds = dict.fromkeys(players, 0.0)
+        with no_gc():  # the contenders take turns frame by frame, the order alternating
+            for i in range(1, len(frames)):
+                for name in order if i % 2 else order[::-1]:
+                    seconds[name] += players[name].frame_seconds(i)
+        for name, spent in seconds.items():
+            figures.add(name, 1e3 * spent / (len(frames) - 1))
+        for name in OURS_BIG:
+            contacts[name] = players[name].found
+    same = contacts["grid"] == contacts["numpy"] == contacts["auto"]
+    return figures, len(frames) - 1, same
+
+
+def _print_storm(figures: Rounds) -> None:
+    """Each contender's milliseconds a tick against the grid's, and numpy's against
+    pymunk's."""
+    for name, label in (("grid", "grid, 32 px"), ("numpy", "numpy broad phase"),
+                        ("auto", "automatic choice"),
+                        ("pymunk", "pymunk spatial hash, boxes only")):
+        if name not in figures.values:
+            continue
+        ratio = figures.ratios("grid", name)
+        print(f"   {label:<44}{figures.median(name):>9.2f} ms  "
+              f"{figures.spread(name, '.2f')}   grid/this {statistics.median(ratio):.2f}x")
+    if "pymunk" in figures.values:
+        ratio = figures.ratios("pymunk", "numpy")
+        print(f"   {'numpy against pymunk':<44}{statistics.median(ratio):>8.2f}x faster  "
+              f"({min(ratio):.2f}..{max(ratio):.2f})")
 
 
 class Goals:
