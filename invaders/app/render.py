@@ -110,38 +110,19 @@ class Renderer:
         ground = world.config.geometry.ground_row
         top, bottom = view.to_window(0, SCORE_BAR_ROWS)[1], view.to_window(0, ground)[1]
         if report is not None and report.cell:
-            for x in range(0, SCREEN_W + 1, report.cell):
-                wx = view.to_window(x, 0)[0]
-                pygame.draw.line(target, GRID_COLOUR, (wx, top), (wx, bottom))
-            first = -(-SCORE_BAR_ROWS // report.cell) * report.cell
-            for y in range(first, ground + 1, report.cell):
-                wy = view.to_window(0, y)[1]
-                pygame.draw.line(target, GRID_COLOUR, (view.x, wy),
-                                 (view.to_window(SCREEN_W, 0)[0], wy))
-        by_id = world.store.by_id
-        for a_id, b_id in pairs:
-            a, b = by_id.get(a_id), by_id.get(b_id)
-            if a is None or b is None:
-                continue
-            if a.kind in EDGES:  # an edge (ids below every thing's: always a): its line
-                line = a.y + a.h - 1 if a.kind is Kind.TOP else a.y
-                x, y = view.centre(b)
-                edge_y = view.to_window(0, line)[1]
-                pygame.draw.line(target, PAIR_COLOUR, (x, y), (x, edge_y), 2)
-                pygame.draw.line(target, PAIR_COLOUR, (view.x, edge_y),
-                                 (view.to_window(SCREEN_W, 0)[0], edge_y), 1)
-                pygame.draw.rect(target, PAIR_COLOUR, view.box(b), 1)
-                continue
-            pygame.draw.line(target, PAIR_COLOUR, view.centre(a), view.centre(b), 2)
-            for body in (a, b):
-                pygame.draw.rect(target, PAIR_COLOUR, view.box(body), 1)
+            _draw_cells(target, view, report.cell, ground, (top, bottom))
+        _draw_pairs(target, view, world.store.by_id, pairs)
+        self._draw_counters(target, view, overlay_lines(world.tick, report), top)
+
+    def _draw_counters(self, target: pygame.Surface, view: View, lines: list[str],
+                       top: int) -> None:
+        """The counters' lines on a dark panel in the playfield's top right corner."""
         size = max(OVERLAY_TEXT_PX, round(7 * view.scale))
         if self._font is None or self._font_size != size:
             pygame.font.init()
             self._font = pygame.font.Font(None, size)
             self._font_size = size
-        labels = [self._font.render(line, True, (255, 255, 255))
-                  for line in overlay_lines(world.tick, report)]
+        labels = [self._font.render(line, True, (255, 255, 255)) for line in lines]
         pad = max(2, size // 7)
         width = max(label.get_width() for label in labels) + 2 * pad
         height = sum(label.get_height() for label in labels) + 2 * pad
@@ -153,6 +134,42 @@ class Renderer:
             y += label.get_height()
         right = view.to_window(SCREEN_W, 0)[0]
         target.blit(panel, (right - width - pad, top + pad))
+
+
+def _draw_cells(target: pygame.Surface, view: View, cell: int, ground: int,
+                rows: tuple[int, int]) -> None:
+    """The broad phase's cells as lines, from the score bar down to the ground (`rows`:
+    those two in the window's pixels)."""
+    top, bottom = rows
+    for x in range(0, SCREEN_W + 1, cell):
+        wx = view.to_window(x, 0)[0]
+        pygame.draw.line(target, GRID_COLOUR, (wx, top), (wx, bottom))
+    first = -(-SCORE_BAR_ROWS // cell) * cell
+    for y in range(first, ground + 1, cell):
+        wy = view.to_window(0, y)[1]
+        pygame.draw.line(target, GRID_COLOUR, (view.x, wy), (view.to_window(SCREEN_W, 0)[0], wy))
+
+
+def _draw_pairs(target: pygame.Surface, view: View, by_id: dict,
+                pairs: Sequence[tuple[int, int]]) -> None:
+    """Each candidate pair: a line between the two bodies and their boxes; a body and an
+    edge, a line from the body to the edge's line, drawn across."""
+    for a_id, b_id in pairs:
+        a, b = by_id.get(a_id), by_id.get(b_id)
+        if a is None or b is None:
+            continue
+        if a.kind in EDGES:  # an edge (ids below every thing's: always a): its line
+            line = a.y + a.h - 1 if a.kind is Kind.TOP else a.y
+            x, y = view.centre(b)
+            edge_y = view.to_window(0, line)[1]
+            pygame.draw.line(target, PAIR_COLOUR, (x, y), (x, edge_y), 2)
+            pygame.draw.line(target, PAIR_COLOUR, (view.x, edge_y),
+                             (view.to_window(SCREEN_W, 0)[0], edge_y), 1)
+            pygame.draw.rect(target, PAIR_COLOUR, view.box(b), 1)
+            continue
+        pygame.draw.line(target, PAIR_COLOUR, view.centre(a), view.centre(b), 2)
+        for body in (a, b):
+            pygame.draw.rect(target, PAIR_COLOUR, view.box(body), 1)
 
 
 def overlay_lines(tick: int, report: TickReport | None) -> list[str]:
