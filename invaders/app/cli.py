@@ -157,7 +157,7 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                          f"{name} (default)" if name == "hunter" else name
                          for name in STYLES))
     run.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE)
-    run.add_argument("--cell", type=_int_in("--cell", 1, 1024),  # (None: see cmd_run)
+    run.add_argument("--cell", type=_int_in("--cell", 1, 1024),  # (None: see _run_world)
                      help="cell size in px of the grid and of the broad phases built on its "
                           f"cells ({DEFAULT_CELL} by default)")
     run.add_argument("--report", metavar="FILE", help="per-tick counters, .csv or .jsonl")
