@@ -1,7 +1,7 @@
 """The lab in the window: switch the collision method while playing, and see what it misses.
 
 `LabControl` owns the lab's side of a game: the choice, putting it into the world (from the
-next tick), telling a recording, and the keys. `draw_panel` paints the panel beside the
+next tick), telling a recording, and the keys. `PanelPainter` paints the panel beside the
 playfield at the window's resolution; `draw_marks` rings each error the oracle found where
 it should have happened: missed in red, late in orange, false in yellow, fading over a
 second. Detection is timed with the clock the window runs on (never the simulation's).
