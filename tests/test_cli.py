@@ -113,6 +113,9 @@ def test_a_jsonl_report_has_one_object_per_tick(tmp_path, capsys):
     (["bench", "--env", "--ale"], "--ale adds to the full bench; --env runs instead"),
     (["bench", "--against", "HEAD", "--largest", "10"], "--largest adds to the full bench"),
     (["bench", "--reading", "--ticks", "600"], "--ticks sets the game the full bench"),
+    (["bench", "--arcade", "--env"], "--env: not allowed with argument --arcade"),
+    (["bench", "--arcade", "--big"], "--big adds to the full bench; --arcade runs instead"),
+    (["bench", "--arcade", "--seed", "3"], "--seed sets the game the full bench and --against"),
     (["study", "--jobs", "2", "--scheduler", "tcp://127.0.0.1:8786"],
      "--scheduler: not allowed with argument --jobs"),
     (["bench", "--window", "--seed", "3"], "--seed sets the game the full bench and --against"),
@@ -173,6 +176,13 @@ def test_bench_against_ale_without_the_compare_extra_says_how_to_get_it(monkeypa
     assert main(["bench", "--ale"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["invaders: error: --ale needs ale-py: pip install -e '.[compare]'"]
+
+
+def test_bench_against_arcade_without_it_says_how_to_get_it(monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "arcade", None)  # (its import fails)
+    assert main(["bench", "--arcade"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["invaders: error: --arcade needs arcade: pip install -e '.[compare]'"]
 
 
 def test_the_bare_step_loop_and_ale_share_one_input_cycle_that_plays_the_game():

@@ -22,7 +22,7 @@ from invaders.app.cli import build_parser, main
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 BLOCK = re.compile(r"```(\w*)\n(.*?)```", re.S)
-INSTEAD = {"--env", "--window", "--reading", "--against"}  # (benches without sections)
+INSTEAD = {"--env", "--window", "--reading", "--arcade", "--against"}  # (benches without sections)
 TIMED = ("bench", "study")  # their output is timings: the pages show one run of it
 
 

@@ -226,6 +226,10 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
                               "processes (the longest valid one, the same in the other "
                               "shapes a file may take, and four hostile ones): seconds and "
                               "peak memory against the goal of 2 s and 100 MB")
+    instead.add_argument("--arcade", action="store_true",
+                         help="instead, Arcade's collision checks (a spatial hash, box hit "
+                              "boxes) against ours on section 5's boxes, still and moving "
+                              "(needs the compare extra: arcade)")
     instead.add_argument("--against", metavar="REV",
                          help="instead, this tree's game speed against a git revision's "
                               "(checked out in a temporary worktree), game by game in turn")
@@ -436,6 +440,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
             raise UsageError(str(err)) from None
     if args.env:
         return _env_table(args.rounds)
+    if args.arcade:
+        return _arcade_table(args.rounds)
     if args.ale:
         from invaders.lab.ale import available
 
@@ -456,7 +462,7 @@ def _only_for_the_full_bench(args: argparse.Namespace) -> None:
     """--ale, --big and --largest add to the full bench, and --ticks and --seed set the game
     it and --against play: each refused beside a bench that would leave it unused without a
     word."""
-    instead = next((f"--{name}" for name in ("env", "window", "reading", "against")
+    instead = next((f"--{name}" for name in ("env", "window", "reading", "arcade", "against")
                     if getattr(args, name) not in (False, None)), None)
     added = next((flag for flag, given in (("--ale", args.ale), ("--big", args.big),
                                            ("--largest", args.largest is not None)) if given),
@@ -468,6 +474,17 @@ def _only_for_the_full_bench(args: argparse.Namespace) -> None:
     if instead not in (None, "--against") and game:
         raise UsageError(f"{game} sets the game the full bench and --against play; "
                          f"{instead} plays none")
+
+
+def _arcade_table(rounds: int) -> int:
+    """Arcade's collision checks against ours (bench --arcade)."""
+    try:
+        import arcade  # noqa: F401
+    except ImportError:
+        raise UsageError("--arcade needs arcade: pip install -e '.[compare]'") from None
+    from invaders.lab.bench_arcade import arcade_table
+
+    return arcade_table(rounds)
 
 
 def _env_table(rounds: int, section: bool = False) -> int:
