@@ -10,7 +10,8 @@ box: boxes that only touch do not collide, as with pygame's rects), so the work 
 rounds (a row whose answers differ is not counted as met). Arcade gets its fastest set-up
 for these scenes: the second group in a list with a spatial hash, moving scenes included
 (at 1,000 a side, moving, a frame took 26 ms with the hash and its upkeep, 182 ms with a
-list without one: a script).
+list without one), its cells 32 px, as our grid's (as fast as its default 128 or faster
+at every size: 16% at 1,000 a side, still; scripts, in turn).
 
 A frame is a check of every sprite of the first group (Arcade's) or one `groupcollide`
 (ours); in a moving scene every sprite first takes a step of up to 3 px, back and forth,
@@ -36,6 +37,7 @@ from invaders.lab.bench_sprites import ROUND_SECONDS, SIZES, groups
 from invaders.lab.timing import no_gc
 
 Answers = dict[pygame.sprite.Sprite, set[pygame.sprite.Sprite]]
+ARCADE_CELL = 32  # px, the spatial hash's cells (Arcade's default: 128)
 
 
 class Walk:
@@ -64,7 +66,8 @@ class ArcadeField:
 
         self._check = arcade.check_for_collision_with_list
         self.firsts = [(sprite, _box(arcade, sprite.rect)) for sprite in group_a]
-        self.seconds = arcade.SpriteList(use_spatial_hash=True, lazy=True)
+        self.seconds = arcade.SpriteList(use_spatial_hash=True, lazy=True,
+                                         spatial_hash_cell_size=ARCADE_CELL)
         self._pygame: dict[Any, pygame.sprite.Sprite] = {}
         for sprite in group_b:
             twin = _box(arcade, sprite.rect)
@@ -164,8 +167,8 @@ def arcade_table(rounds: int) -> int:
     import arcade
 
     print(f"invaders bench --arcade ({rounds} interleaved rounds): Arcade "
-          f"{arcade.version.VERSION}'s check_for_collision_with_list (a spatial hash, box "
-          "hit boxes) against ours "
+          f"{arcade.version.VERSION}'s check_for_collision_with_list (a spatial hash of "
+          f"{ARCADE_CELL}-px cells, box hit boxes) against ours "
           "(invaders.engine.collide.groupcollide, collide_rect), the same boxes: a frame's "
           "time, median (lowest..highest round)")
     goal = Goals(rounds)
