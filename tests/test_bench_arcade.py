@@ -3,10 +3,17 @@ places, still and moving, so the two sides time the same work."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pygame
+import pytest
 
 from invaders.lab.bench_arcade import ArcadeField, Walk, arcade_frame, our_answers, our_frame
 from invaders.lab.bench_sprites import groups
+from invaders.lab.references import ArcadeScene
+from invaders.lab.runner import SceneSpec, record, scene_rules
+
+REPLAYS = Path(__file__).resolve().parents[1] / "replays"
 
 
 class Box(pygame.sprite.Sprite):
@@ -52,3 +59,27 @@ def test_both_sides_walk_their_sprites_by_the_same_steps_and_keep_the_same_answe
     sprites = [*group_a, *group_b]
     assert [(twin.left, twin.bottom, twin.width, twin.height) for twin in field.twins] == [
         (s.rect.x, s.rect.y, s.rect.w, s.rect.h) for s in sprites]
+
+
+@pytest.mark.parametrize("spec", [SceneSpec.storm(300, 12),
+                                  SceneSpec("game", 900, replay=str(REPLAYS / "second-wave.json"))],
+                         ids=["storm", "game"])
+def test_arcades_scene_finds_every_probes_box_overlaps_frame_after_frame(spec):
+    frames = record(spec)
+    scene = ArcadeScene(frames, scene_rules(spec))
+    checked = 0
+    for index in range(1, len(frames)):
+        scene.frame_seconds(index)  # (applies the frame's adds, moves and removes)
+        rects = {kind: {row[0]: pygame.Rect(row[1], row[2], *row[6].get_size()) for row in rows}
+                 for kind, rows in frames[index].bodies.items()}
+        expected = set()
+        for body_id, (x, y, w, h), kind in scene.steps[index].probes:
+            probe = pygame.Rect(x, y, w, h)
+            expected |= {(min(body_id, other), max(body_id, other))
+                         for other, rect in rects[kind].items()
+                         if other != body_id and probe.colliderect(rect)}
+        assert scene.found(index) == expected
+        checked += len(expected)
+    assert checked > 10  # (boxes do meet: the check is not of empty sets)
+    if spec.replay is not None:  # (bodies come and go in a game: shots, bombs, aliens)
+        assert sum(len(changes.removes) for changes in scene.steps) > 10

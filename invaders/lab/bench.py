@@ -34,7 +34,8 @@ import statistics
 import subprocess
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from typing import Any
 
 from invaders.engine.adaptive import DEFAULT_BROADPHASE, make_broadphase
 from invaders.engine.broadphase import Pair, Scene
@@ -279,8 +280,11 @@ def big_scenes(rounds: int, goal) -> None:
         has_pymunk = False
     print("4. big scenes: storms (no response, so overlaps persist), detection per tick "
           "after the first frame")
+    from invaders.lab.references import PymunkScene
+
     for n in BIG_SIZES:
-        figures, ticks, same = _storm_rounds(n, rounds, has_pymunk)
+        figures, ticks, same = storm_rounds(n, rounds,
+                                             {"pymunk": PymunkScene} if has_pymunk else {})
         print(f"   {n:,} bodies, {ticks} ticks"
               + ("" if same else ": WARNING the broad phases found different contacts"))
         _print_storm(figures)
@@ -293,11 +297,12 @@ def big_scenes(rounds: int, goal) -> None:
                  figures.ratios("grid", "auto"), BIG_GOALS["auto/grid at 1000"], same)
 
 
-def _storm_rounds(n: int, rounds: int, has_pymunk: bool) -> tuple[Rounds, int, bool]:
-    """A storm of `n` bodies detected by each contender, frame by frame in turns: the
+def storm_rounds(n: int, rounds: int, references: dict[str, Callable[..., Any]]
+                  ) -> tuple[Rounds, int, bool]:
+    """A storm of `n` bodies detected by each of our broad phases and each reference (made
+    from the frames and rules, with a `frame_seconds`), frame by frame in turns: the
     milliseconds a tick of each round, the ticks timed, and whether our broad phases found
     the same contacts."""
-    from invaders.lab.references import PymunkScene
     from invaders.lab.runner import SceneSpec, record, scene_rules
 
     spec = SceneSpec.storm(n, BIG_TICKS[n])
@@ -307,8 +312,8 @@ def _storm_rounds(n: int, rounds: int, has_pymunk: bool) -> tuple[Rounds, int, b
     contacts: dict[str, list] = {}
     for index in range(rounds):
         players = {name: FramePlayer(name, frames, rules) for name in OURS_BIG}
-        if has_pymunk:
-            players["pymunk"] = PymunkScene(frames, rules)
+        for name, make in references.items():
+            players[name] = make(frames, rules)
         order = list(players) if index % 2 == 0 else list(players)[::-1]
         seconds = dict.fromkeys(players, 0.0)
         with no_gc():  # the contenders take turns frame by frame, the order alternating

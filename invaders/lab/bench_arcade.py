@@ -1,17 +1,21 @@
-"""`invaders bench --arcade`: Arcade's collision checks against ours, on the same boxes.
+"""`invaders bench --arcade`: Arcade's collision checks against ours, on the same work.
 
 Arcade, the Python game library, finds what a sprite touches with
 `arcade.check_for_collision_with_list(sprite, sprite_list)`: the list's spatial hash gives
-the sprites near it, and their hit boxes (polygons) are tested. The scenes are section 5's
-(bench_sprites.py): fields of boxes 4 to 24 px a side, as dense at every size. Arcade's
-sprites are solid boxes where the pygame sprites' rects are (a solid box's hit box is its
-box: boxes that only touch do not collide, as with pygame's rects), so the work is
-`groupcollide` with `collide_rect`, and the answers are compared before and after the
-rounds (a row whose answers differ is not counted as met). Arcade gets its fastest set-up
-for these scenes: the second group in a list with a spatial hash, moving scenes included
-(at 1,000 a side, moving, a frame took 26 ms with the hash and its upkeep, 182 ms with a
-list without one), its cells 32 px, as our grid's (as fast as its default 128 or faster
-at every size: 16% at 1,000 a side, still; scripts, in turn).
+the sprites near it, and their hit boxes (polygons) are tested. Two tables: sprite groups,
+and storms (section 4's, 1,000 and 10,000 bodies under the game's rules: ours with each
+broad phase against `references.ArcadeScene`, a sprite list a kind given the same box
+queries pymunk is given there, frame by frame in turns).
+
+1. The groups are section 5's (bench_sprites.py): fields of boxes 4 to 24 px a side, as
+dense at every size. Arcade's sprites are solid boxes where the pygame sprites' rects are
+(a solid box's hit box is its box: boxes that only touch do not collide, as with pygame's
+rects), so the work is `groupcollide` with `collide_rect`, and the answers are compared
+before and after the rounds (a row whose answers differ is not counted as met). Arcade
+gets its fastest set-up for these scenes: the second group in a list with a spatial hash,
+moving scenes included (at 1,000 a side, moving, a frame took 26 ms with the hash and its
+upkeep, 182 ms with a list without one), its cells 32 px, as our grid's (as fast as its
+default 128 or faster at every size: 16% at 1,000 a side, still; scripts, in turn).
 
 A frame is a check of every sprite of the first group (Arcade's) or one `groupcollide`
 (ours); in a moving scene every sprite first takes a step of up to 3 px, back and forth,
@@ -19,6 +23,10 @@ each side moving its own sprites by the same steps. Arcade's hash is brought up 
 its sprites move, so the moves are timed on both sides. The two take turns as in section
 5: enough frames of each to last about 10 ms a round, the order reversed from one round
 to the next; medians over the rounds with their spread, ratios per round.
+
+2. The storms are section 4's, timed as there (the first frame untimed; Arcade's sprites
+made before it). Ours tests pixels and sweeps where the rules ask; Arcade boxes only, a
+lower bar.
 """
 
 from __future__ import annotations
@@ -32,12 +40,12 @@ from typing import Any
 import pygame
 
 from invaders.engine import collide
-from invaders.lab.bench import Goals
+from invaders.lab.bench import BIG_SIZES, Goals, storm_rounds
 from invaders.lab.bench_sprites import ROUND_SECONDS, SIZES, groups
+from invaders.lab.references import ARCADE_CELL, ArcadeScene
 from invaders.lab.timing import no_gc
 
 Answers = dict[pygame.sprite.Sprite, set[pygame.sprite.Sprite]]
-ARCADE_CELL = 32  # px, the spatial hash's cells (Arcade's default: 128)
 
 
 class Walk:
@@ -162,16 +170,24 @@ def _row(n: int, motion: str, rounds: int) -> tuple[list[float], bool]:
 
 
 def arcade_table(rounds: int) -> int:
-    """Print the table and its goal, ours faster than Arcade in every row with the same
-    answers; 1 if missed, else 0."""
+    """Print both tables and their goals; 1 if any missed, else 0."""
     import arcade
 
     print(f"invaders bench --arcade ({rounds} interleaved rounds): Arcade "
-          f"{arcade.version.VERSION}'s check_for_collision_with_list (a spatial hash of "
-          f"{ARCADE_CELL}-px cells, box hit boxes) against ours "
-          "(invaders.engine.collide.groupcollide, collide_rect), the same boxes: a frame's "
-          "time, median (lowest..highest round)")
+          f"{arcade.version.VERSION}'s check_for_collision_with_list (spatial hashes of "
+          f"{ARCADE_CELL}-px cells, box hit boxes) against ours: median (lowest..highest "
+          "round)")
     goal = Goals(rounds)
+    sprite_rows(rounds, goal)
+    storm_rows(rounds, goal)
+    return 1 if goal.missed else 0
+
+
+def sprite_rows(rounds: int, goal: Goals) -> None:
+    """Section 5's boxes, a frame's time: the rows and their goal, ours faster than Arcade
+    in every row with the same answers."""
+    print("1. sprite groups: ours (invaders.engine.collide.groupcollide, collide_rect), the "
+          "same boxes")
     medians, all_same = {}, True
     for n in SIZES:
         for motion in ("still", "moving"):
@@ -182,4 +198,24 @@ def arcade_table(rounds: int) -> int:
     goal("ours faster than Arcade at every size, still and moving, with the same answers",
          [medians[slowest]], 1.0, all_same,
          detail=f"the closest row: {slowest}, {medians[slowest]:.2f}x")
-    return 1 if goal.missed else 0
+
+
+def storm_rows(rounds: int, goal: Goals) -> None:
+    """Section 4's storms, detection per tick in steady state: ours (each broad phase)
+    against Arcade's hashes given the same work (`references.ArcadeScene`), frame by frame
+    in turns; the goal, ours' automatic choice faster at every size."""
+    print("2. storms (no response, so overlaps persist), detection per tick after the first "
+          "frame: ours (the game's rules, masks and swept tests where they ask) against a "
+          "sprite list a kind, one check a probe (the rules' and zones' probes only)")
+    for n in BIG_SIZES:
+        figures, ticks, same = storm_rounds(n, rounds, {"arcade": ArcadeScene})
+        print(f"   {n:,} bodies, {ticks} ticks"
+              + ("" if same else ": WARNING the broad phases found different contacts"))
+        for name, label in (("auto", "ours, the automatic choice"),
+                            ("arcade", "Arcade, boxes only")):
+            print(f"   {label:<44}{figures.median(name):>9.2f} ms  {figures.spread(name, '.2f')}")
+        ratio = figures.ratios("arcade", "auto")
+        print(f"   {'ours against Arcade':<44}{statistics.median(ratio):>8.2f}x faster  "
+              f"({min(ratio):.2f}..{max(ratio):.2f})")
+        goal(f"ours faster than Arcade at {n:,} bodies", figures.ratios("arcade", "auto"), 1.0,
+             same)

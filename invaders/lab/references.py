@@ -1,12 +1,14 @@
 """Outside references, timed on the same frames as our pipeline.
 
 `pygame.sprite.groupcollide` with `collide_mask` over the rules' group pairs (mask-exact,
-as ours), and pymunk's spatial hash answering box queries only (a lower bar: no pixels).
+as ours), and pymunk's and Arcade's spatial hashes answering box queries only (a lower bar:
+no pixels).
 """
 
 from __future__ import annotations
 
 import time
+from typing import Any, NamedTuple
 
 import pygame
 
@@ -106,19 +108,64 @@ def groupcollide_us(frames: list[Frame], budget: float = 5.0) -> float:
 
 
 
+Box = tuple[int, int, int, int]  # x, y, w, h
+
+
+class Changes(NamedTuple):
+    """What a frame asks of a reference that keeps its bodies between frames: the bodies
+    added (id, kind, box), moved (id, box) and removed (ids), and the probes (id, box, the
+    kind it is asked against): each body on the probing side of a rule, only where the
+    other side has bodies and only for bodies in the rule's zone."""
+
+    adds: list[tuple[int, int, Box]]
+    moves: list[tuple[int, Box]]
+    removes: list[int]
+    probes: list[tuple[int, Box, int]]
+
+
+def frame_changes(frames: list[Frame], rules=GAME_RULES) -> list[Changes]:
+    """Each frame's changes from the one before (the first's: every body added), worked
+    out beforehand, as our store hands ours its move buffer."""
+    from invaders.engine.detector import ZoneIndex
+    from invaders.lab.frames import FrameScene
+
+    scene = FrameScene()
+    zones = {id(r): ZoneIndex(r.zone) for r in rules if r.zone is not None}
+    previous: dict[int, tuple[int, int]] = {}
+    found = []
+    for frame in frames:
+        scene.load(frame)
+        now = {}
+        changes = Changes([], [], [], [])
+        for kind, rows in frame.bodies.items():
+            for body_id, x, y, _px, _py, _moved, mask in rows:
+                box = (x, y, *mask.get_size())
+                now[body_id] = (x, y)
+                if body_id not in previous:
+                    changes.adds.append((body_id, kind, box))
+                elif previous[body_id] != (x, y):
+                    changes.moves.append((body_id, box))
+        changes.removes.extend(i for i in previous if i not in now)
+        for rule in rules:
+            if not frame.bodies[rule.b]:
+                continue
+            zone = zones.get(id(rule))
+            changes.probes.extend((body.id, (body.x, body.y, body.w, body.h), rule.b)
+                                  for body in scene.store.by_kind[rule.a]
+                                  if zone is None or zone.holds(body, frame.tick))
+        found.append(changes)
+        previous = now
+    return found
+
+
 class PymunkScene:
     """pymunk's spatial hash given the same work as ours, and no more: every body of the
-    first frame is created before timing; each later frame's changes (moved, added and
-    removed bodies, worked out beforehand, as our store hands ours its move buffer) are
-    applied, then one box query per body on the probing side of each rule, only where the
-    other side has bodies and only for bodies in the rule's zone (found beforehand too).
-    Boxes only: no pixel tests, a lower bar than ours."""
+    first frame is created before timing; each later frame's changes (`frame_changes`) are
+    applied, then one box query per probe. Boxes only: no pixel tests, a lower bar than
+    ours."""
 
     def __init__(self, frames: list[Frame], rules=GAME_RULES) -> None:
         import pymunk
-
-        from invaders.engine.detector import ZoneIndex
-        from invaders.lab.frames import FrameScene
 
         self.pymunk = pymunk
         bodies = max(sum(len(v) for v in f.bodies.values()) for f in frames)
@@ -126,34 +173,12 @@ class PymunkScene:
         self.space.use_spatial_hash(32.0, max(1000, 2 * bodies))
         self.shapes: dict[int, tuple] = {}
         self.steps = []  # per frame: (moves, adds, removes, queries)
-        scene = FrameScene()
-        zones = {id(r): ZoneIndex(r.zone) for r in rules if r.zone is not None}
-        previous: dict[int, tuple[int, int]] = {}
-        for frame in frames:
-            scene.load(frame)
-            now = {}
-            moves, adds = [], []
-            for kind, rows in frame.bodies.items():
-                for body_id, x, y, _px, _py, _moved, mask in rows:
-                    w, h = mask.get_size()
-                    now[body_id] = (x, y)
-                    if body_id not in previous:
-                        adds.append((body_id, kind, x, y, w, h))
-                    elif previous[body_id] != (x, y):
-                        moves.append((body_id, x + w / 2, y + h / 2))
-            removes = [i for i in previous if i not in now]
-            queries = []
-            for rule in rules:
-                if not frame.bodies[rule.b]:
-                    continue
-                wanted = pymunk.ShapeFilter(mask=1 << rule.b)
-                zone = zones.get(id(rule))
-                for body in scene.store.by_kind[rule.a]:
-                    if zone is None or zone.holds(body, frame.tick):
-                        queries.append((pymunk.BB(body.x, body.y, body.x + body.w,
-                                                  body.y + body.h), wanted))
-            self.steps.append((moves, adds, removes, queries))
-            previous = now
+        for changes in frame_changes(frames, rules):
+            moves = [(body_id, x + w / 2, y + h / 2) for body_id, (x, y, w, h) in changes.moves]
+            adds = [(body_id, kind, *box) for body_id, kind, box in changes.adds]
+            queries = [(pymunk.BB(x, y, x + w, y + h), pymunk.ShapeFilter(mask=1 << kind))
+                       for _, (x, y, w, h), kind in changes.probes]
+            self.steps.append((moves, adds, changes.removes, queries))
         self._apply(self.steps[0])  # the first frame's bodies: made before any timing
 
     def _apply(self, step) -> None:
@@ -188,6 +213,61 @@ class PymunkScene:
         for bb, wanted in step[3]:
             query(bb, wanted)
         return time.perf_counter() - start
+
+
+ARCADE_CELL = 32  # px, Arcade's spatial hashes' cells, as our grid's (its default: 128)
+
+
+class ArcadeScene:
+    """Arcade's spatial hashes given the same work as ours, as pymunk's are: a sprite list
+    a kind, each with a spatial hash; every body of the first frame made before timing;
+    each later frame's changes (`frame_changes`) applied, then one
+    `check_for_collision_with_list` per probe, against the list of the kind it is asked
+    against. Solid boxes (their hit boxes are their boxes): no pixel tests, a lower bar
+    than ours."""
+
+    def __init__(self, frames: list[Frame], rules=GAME_RULES) -> None:
+        import arcade
+
+        self.arcade = arcade
+        self.lists = {kind: arcade.SpriteList(use_spatial_hash=True, lazy=True,
+                                              spatial_hash_cell_size=ARCADE_CELL)
+                      for kind in {kind for frame in frames for kind in frame.bodies}}
+        self.sprites: dict[int, Any] = {}
+        self.steps = frame_changes(frames, rules)
+        self._apply(self.steps[0])  # the first frame's bodies: made before any timing
+
+    def _apply(self, changes: Changes) -> None:
+        sprites, lists, box = self.sprites, self.lists, self.arcade.SpriteSolidColor
+        for body_id, kind, (x, y, w, h) in changes.adds:
+            sprite = sprites[body_id] = box(w, h, x + w / 2, y + h / 2)
+            lists[kind].append(sprite)
+        for body_id in changes.removes:
+            sprites.pop(body_id).remove_from_sprite_lists()
+        for body_id, (x, y, w, h) in changes.moves:
+            sprites[body_id].position = (x + w / 2, y + h / 2)
+
+    def frame_seconds(self, index: int) -> float:
+        """Time frame `index`: its changes applied, its probes checked (frames in order)."""
+        changes = self.steps[index]
+        check, sprites, lists = (self.arcade.check_for_collision_with_list, self.sprites,
+                                 self.lists)
+        start = time.perf_counter()
+        self._apply(changes)
+        for body_id, _, kind in changes.probes:
+            check(sprites[body_id], lists[kind])
+        return time.perf_counter() - start
+
+    def found(self, index: int) -> set[tuple[int, int]]:
+        """The id pairs (low first) whose boxes frame `index`'s probes meet (once the
+        frame is applied: for tests)."""
+        ids = {id(sprite): body_id for body_id, sprite in self.sprites.items()}
+        check = self.arcade.check_for_collision_with_list
+        pairs = set()
+        for body_id, _, kind in self.steps[index].probes:
+            for other in check(self.sprites[body_id], self.lists[kind]):
+                pairs.add((min(body_id, ids[id(other)]), max(body_id, ids[id(other)])))
+        return pairs
 
 
 def pymunk_steady_us(frames: list[Frame], rules=GAME_RULES) -> float | None:
