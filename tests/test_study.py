@@ -98,6 +98,11 @@ def test_study_quick_from_any_folder_studies_the_storms(quick_study):
     assert len(rows) > 50 and all(row["scene"].startswith("storm") for row in rows)
     assert {p.name for p in out.iterdir()} == {"study.csv", "scaling.csv",
                                                "speed_accuracy.png", "scaling.png"}
+    with (out / "scaling.csv").open() as handle:  # the outside references timed at each size
+        scaling = list(csv.DictReader(handle))
+    assert scaling and all(float(row[key]) > 0 for row in scaling
+                           for key in ("groupcollide_mask", "pymunk_boxes", "arcade_boxes"))
+    assert "pymunk (boxes only)" in printed and "Arcade (boxes only)" in printed
 
 
 @pytest.mark.parametrize("args, problem", [

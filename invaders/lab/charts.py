@@ -5,7 +5,7 @@
    scenes against its errors per true contact, the Pareto front and the default marked.
 2. Counters per tick over a game: how many pairs each pipeline step considered.
 3. Time per tick against body count, log-log: ours, brute force, groupcollide with
-   collide_mask, pymunk's spatial hash (boxes only).
+   collide_mask, pymunk's and Arcade's spatial hashes (boxes only).
 """
 
 from __future__ import annotations

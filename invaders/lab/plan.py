@@ -160,9 +160,9 @@ def game_counters(replay: Path, ticks: int = 3600) -> dict[str, list[int]]:
 
 def scaling_rows(plan: Plan, rows: list[dict], budget: float) -> list[dict]:
     """Per storm size: ours (chosen from the scene, the engine's automatic choice, the grid,
-    numpy, the cell rects), brute force (from the cells), groupcollide and pymunk given the
-    same work (`references.PymunkScene`)."""
-    from invaders.lab.references import groupcollide_us, pymunk_steady_us
+    numpy, the cell rects), brute force (from the cells), groupcollide, and pymunk and
+    Arcade given the same work (`references.PymunkScene`, `references.ArcadeScene`)."""
+    from invaders.lab.references import arcade_steady_us, groupcollide_us, pymunk_steady_us
     from invaders.lab.runner import record, scene_rules
 
     out = []
@@ -170,15 +170,16 @@ def scaling_rows(plan: Plan, rows: list[dict], budget: float) -> list[dict]:
         name = f"storm{n}x1"
         mine = {r["method"].split("/")[0]: float(r["us_per_tick"]) for r in rows
                 if r["scene"] == name and r["method"].endswith("rect/mask/auto/every1")}
-        frames = record(SceneSpec.storm(n, plan.scaling_ticks))
+        spec = SceneSpec.storm(n, plan.scaling_ticks)
+        frames = record(spec)
         out.append({"bodies": n, "ours_auto": mine.get("gridauto"),
                     "engine_auto": mine.get("auto"),
                     "grid_default": mine.get(f"grid{DEFAULT_CELL}"),
                     "sweep": mine.get("sweep"), "brute": mine.get("brute"),
                     "numpy": mine.get("numpy"), "rects": mine.get("rects"),
                     "groupcollide_mask": round(groupcollide_us(frames, budget), 1),
-                    "pymunk_boxes": pymunk_steady_us(frames, scene_rules(
-                        SceneSpec.storm(n, plan.scaling_ticks)))})
+                    "pymunk_boxes": pymunk_steady_us(frames, scene_rules(spec)),
+                    "arcade_boxes": arcade_steady_us(frames, scene_rules(spec))})
     return out
 
 
@@ -220,7 +221,8 @@ def study(out: Path, replays: Path | None, quick: bool = False, jobs: int = 1,
                                  ("numpy broad phase", "numpy"),
                                  ("brute force", "brute"), ("sort-and-sweep", "sweep"),
                                  ("groupcollide + collide_mask", "groupcollide_mask"),
-                                 ("pymunk spatial hash, boxes only", "pymunk_boxes"))}
+                                 ("pymunk spatial hash, boxes only", "pymunk_boxes"),
+                                 ("Arcade spatial hashes, boxes only", "arcade_boxes"))}
     charts.scaling(series, out / "scaling.png")
     print(f"wrote {out / 'study.csv'}, {out / 'scaling.csv'} and "
           f"{'three' if recorded else 'two'} charts in {out}")
@@ -270,6 +272,8 @@ def summary(rows: list[dict], scale: list[dict]) -> list[str]:
         if ours:
             lines.append(f"at {big['bodies']} bodies: ours {ours:.0f} us a tick, "
                          f"groupcollide {big['groupcollide_mask'] / ours:.0f}x slower"
-                         + (f", pymunk (boxes only) {big['pymunk_boxes'] / ours:.1f}x slower"
-                            if big["pymunk_boxes"] else ""))
+                         + "".join(f", {name} (boxes only) {big[key] / ours:.1f}x slower"
+                                   for name, key in (("pymunk", "pymunk_boxes"),
+                                                     ("Arcade", "arcade_boxes"))
+                                   if big[key]))
     return lines

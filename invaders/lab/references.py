@@ -7,6 +7,7 @@ no pixels).
 
 from __future__ import annotations
 
+import importlib
 import time
 from typing import Any, NamedTuple
 
@@ -158,7 +159,22 @@ def frame_changes(frames: list[Frame], rules=GAME_RULES) -> list[Changes]:
     return found
 
 
-class PymunkScene:
+class KeptScene:
+    """A reference that keeps its bodies from frame to frame, its frames' changes in
+    `steps` and each frame timed by `frame_seconds` (frames in order)."""
+
+    steps: list
+
+    def frame_seconds(self, index: int) -> float:
+        raise NotImplementedError
+
+    def seconds(self) -> float:
+        """Time the frames after the first, once (a fresh scene for every round)."""
+        with no_gc():
+            return sum(self.frame_seconds(index) for index in range(1, len(self.steps)))
+
+
+class PymunkScene(KeptScene):
     """pymunk's spatial hash given the same work as ours, and no more: every body of the
     first frame is created before timing; each later frame's changes (`frame_changes`) are
     applied, then one box query per probe. Boxes only: no pixel tests, a lower bar than
@@ -199,11 +215,6 @@ class PymunkScene:
             body.position = (cx, cy)
             reindex(body)
 
-    def seconds(self) -> float:
-        """Time the frames after the first, once (a fresh scene for every round)."""
-        with no_gc():
-            return sum(self.frame_seconds(index) for index in range(1, len(self.steps)))
-
     def frame_seconds(self, index: int) -> float:
         """Time frame `index`: its changes applied, its queries asked (frames in order)."""
         step = self.steps[index]
@@ -218,7 +229,7 @@ class PymunkScene:
 ARCADE_CELL = 32  # px, Arcade's spatial hashes' cells, as our grid's (its default: 128)
 
 
-class ArcadeScene:
+class ArcadeScene(KeptScene):
     """Arcade's spatial hashes given the same work as ours, as pymunk's are: a sprite list
     a kind, each with a spatial hash; every body of the first frame made before timing;
     each later frame's changes (`frame_changes`) applied, then one
@@ -273,9 +284,22 @@ class ArcadeScene:
 def pymunk_steady_us(frames: list[Frame], rules=GAME_RULES) -> float | None:
     """Microseconds per frame for pymunk given the same work as ours (after the first
     frame); None if pymunk is not installed."""
+    return _steady_us("pymunk", PymunkScene, frames, rules)
+
+
+def arcade_steady_us(frames: list[Frame], rules=GAME_RULES) -> float | None:
+    """Microseconds per frame for Arcade given the same work as pymunk (after the first
+    frame); None if Arcade is not installed."""
+    return _steady_us("arcade", ArcadeScene, frames, rules)
+
+
+def _steady_us(module: str, scene: type[KeptScene], frames: list[Frame], rules
+               ) -> float | None:
+    """The median of three plays of the frames after the first (as ours), microseconds a
+    frame; None if the reference's module is not installed."""
     try:
-        import pymunk  # noqa: F401
+        importlib.import_module(module)
     except ImportError:
         return None
-    rounds = [PymunkScene(frames, rules).seconds() for _ in range(3)]  # as ours: a median
+    rounds = [scene(frames, rules).seconds() for _ in range(3)]
     return 1e6 * sorted(rounds)[1] / max(1, len(frames) - 1)
