@@ -227,9 +227,9 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
                               "shapes a file may take, and four hostile ones): seconds and "
                               "peak memory against the goal of 2 s and 100 MB")
     instead.add_argument("--arcade", action="store_true",
-                         help="instead, Arcade's collision checks (a spatial hash, box hit "
-                              "boxes) against ours on section 5's boxes, still and moving "
-                              "(needs the compare extra: arcade)")
+                         help="instead, Arcade's collision checks (spatial hashes, box hit "
+                              "boxes) against ours: section 5's boxes, still and moving, and "
+                              "section 4's storms (needs the compare extra: arcade)")
     instead.add_argument("--against", metavar="REV",
                          help="instead, this tree's game speed against a git revision's "
                               "(checked out in a temporary worktree), game by game in turn")
