@@ -51,14 +51,16 @@ class Thing(pygame.sprite.Sprite):
             self.image.fill((255, 255, 255, 255 if holes == -1 else 0))
 
 
-def _scene(seed: int, n_a: int, n_b: int, floats: bool = False
+def _scene(seed: int, n_a: int, n_b: int, floats: bool = False, span: int = 140
            ) -> tuple[list[Thing], list[Thing]]:
-    """Sprites of sizes -3 to 29 (masks holed, full, empty, or made from images), some
-    with float rects (FRect) when asked, each side with a sprite or two repeated."""
+    """Sprites of sizes -3 to 29 (masks holed, full, empty, or made from images) placed in
+    a square `span` px a side, some with float rects (FRect) when asked, each side with a
+    sprite or two repeated."""
     rng = random.Random(seed)
 
     def place() -> float:
-        return rng.randrange(-20, 120) + (rng.choice((0, 0.25, 0.5, 0.75)) if floats else 0)
+        return rng.randrange(-20, span - 20) + (rng.choice((0, 0.25, 0.5, 0.75)) if floats
+                                                else 0)
 
     def thing() -> Thing:
         return Thing(place(), place(), rng.randrange(-3, 30), rng.randrange(-3, 30),
@@ -187,6 +189,26 @@ def test_the_fast_path_is_taken_and_agrees_on_big_groups(collided, monkeypatch):
     monkeypatch.setattr(collide, "_groupcollide_fast", lambda *a: calls.append(1) or fast(*a))
     assert collide.groupcollide(side_a, side_b, False, False, collided) == expected
     assert expected and calls == [1]
+
+
+@pytest.mark.parametrize("collided", PREDICATES[:4])
+@pytest.mark.parametrize("holder", ["group", "layered", "list"])
+def test_big_groups_pair_their_boxes_by_a_sort_first_and_give_pygames_answers(
+        collided, holder, monkeypatch):
+    # 600 x 500 sprites, sizes -3 to 29 and masks of every kind, about one in 20 x 20 px:
+    # boxes that overlap, touch, nest, or have no size, as pygame meets them.
+    near, calls = collide._collide_near, []
+    monkeypatch.setattr(collide, "_collide_near", lambda *a: calls.append(1) or near(*a))
+    results = []
+    for function in (pygame.sprite.groupcollide, collide.groupcollide):
+        side_a, side_b = _scene(11, 600, 500, span=500)
+        group_a, group_b, b = _groups(side_a, side_b, holder)
+        found = function(group_a, b, holder == "list", False, collided)  # (kills on a side)
+        results.append(([(_named([k], side_a, side_b), _named(vs, side_a, side_b))
+                         for k, vs in found.items()],
+                        _named(group_a, side_a, side_b), _named(group_b, side_a, side_b)))
+    assert results[0] == results[1]
+    assert len(results[0][0]) > 200 and calls == [1]
 
 
 class Unhashable:
