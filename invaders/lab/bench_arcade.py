@@ -42,7 +42,7 @@ import pygame
 from invaders.engine import collide
 from invaders.lab.bench import BIG_SIZES, Goals, storm_rounds
 from invaders.lab.bench_sprites import ROUND_SECONDS, SIZES, groups
-from invaders.lab.references import ARCADE_CELL, ArcadeScene
+from invaders.lab.references import ARCADE_CELL, ArcadeScene, arcade_box
 from invaders.lab.timing import no_gc
 
 Answers = dict[pygame.sprite.Sprite, set[pygame.sprite.Sprite]]
@@ -73,12 +73,12 @@ class ArcadeField:
         import arcade
 
         self._check = arcade.check_for_collision_with_list
-        self.firsts = [(sprite, _box(arcade, sprite.rect)) for sprite in group_a]
+        self.firsts = [(sprite, arcade_box(arcade, *sprite.rect)) for sprite in group_a]
         self.seconds = arcade.SpriteList(use_spatial_hash=True, lazy=True,
                                          spatial_hash_cell_size=ARCADE_CELL)
         self._pygame: dict[Any, pygame.sprite.Sprite] = {}
         for sprite in group_b:
-            twin = _box(arcade, sprite.rect)
+            twin = arcade_box(arcade, *sprite.rect)
             self.seconds.append(twin)
             self._pygame[twin] = sprite
         # Every twin, in the order of the pygame sprites [*group_a, *group_b].
@@ -93,11 +93,6 @@ class ArcadeField:
         """The hits as pygame sprites, each first one with any to the set of them."""
         return {sprite: {self._pygame[hit] for hit in hits}
                 for (sprite, _), hits in zip(self.firsts, self.collide(), strict=True) if hits}
-
-
-def _box(arcade: Any, rect: pygame.Rect) -> Any:
-    """A solid sprite covering `rect` (Arcade places a sprite by its centre)."""
-    return arcade.SpriteSolidColor(rect.w, rect.h, rect.x + rect.w / 2, rect.y + rect.h / 2)
 
 
 def our_answers(group_a: pygame.sprite.Group, group_b: pygame.sprite.Group) -> Answers:

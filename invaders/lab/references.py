@@ -229,6 +229,12 @@ class PymunkScene(KeptScene):
 ARCADE_CELL = 32  # px, Arcade's spatial hashes' cells, as our grid's (its default: 128)
 
 
+def arcade_box(arcade: Any, x: int, y: int, w: int, h: int) -> Any:
+    """An Arcade sprite that is a solid box over (x, y, w, h) (Arcade places a sprite by
+    its centre; a solid box's hit box is its box)."""
+    return arcade.SpriteSolidColor(w, h, x + w / 2, y + h / 2)
+
+
 class ArcadeScene(KeptScene):
     """Arcade's spatial hashes given the same work as ours, as pymunk's are: a sprite list
     a kind, each with a spatial hash; every body of the first frame made before timing;
@@ -249,9 +255,9 @@ class ArcadeScene(KeptScene):
         self._apply(self.steps[0])  # the first frame's bodies: made before any timing
 
     def _apply(self, changes: Changes) -> None:
-        sprites, lists, box = self.sprites, self.lists, self.arcade.SpriteSolidColor
+        sprites, lists, arcade = self.sprites, self.lists, self.arcade
         for body_id, kind, (x, y, w, h) in changes.adds:
-            sprite = sprites[body_id] = box(w, h, x + w / 2, y + h / 2)
+            sprite = sprites[body_id] = arcade_box(arcade, x, y, w, h)
             lists[kind].append(sprite)
         for body_id in changes.removes:
             sprites.pop(body_id).remove_from_sprite_lists()
