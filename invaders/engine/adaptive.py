@@ -9,12 +9,22 @@ chart of `invaders study` print the figures (docs/bench.md, docs/study.md).
 from __future__ import annotations
 
 import sys
+from collections.abc import Sequence
 
 from invaders.engine.body import Body
-from invaders.engine.broadphase import BroadPhase, Brute, KindSets, Scene, SortAndSweep, ZoneTest
+from invaders.engine.broadphase import (
+    BroadPhase,
+    Brute,
+    Counted,
+    Group,
+    KindSets,
+    Pair,
+    Scene,
+    SortAndSweep,
+    ZoneTest,
+)
 from invaders.engine.grid import DEFAULT_CELL, Grid
 from invaders.engine.rects import CellRects
-from invaders.engine.store import BodyStore
 
 BROADPHASES = ("auto", "rects", "grid", "numpy", "brute", "sweep")
 DEFAULT_BROADPHASE = "auto"  # the game's, the command line's and the sprite collider's
@@ -42,13 +52,9 @@ class Adaptive(BroadPhase):
     name = "auto"
 
     def __init__(self, cell: int = DEFAULT_CELL) -> None:
-        self._cell = cell
-        self.move_buffer: list[Body] = []
+        self.cell = cell  # (every tier's: each has cells)
+        self.move_buffer: list[Body] | None = []
         self._take(0)
-
-    @property
-    def cell(self) -> int:
-        return self.active.cell
 
     def _take(self, tier: int) -> None:
         """Tier `tier` of `TIERS` made active, and the body counts it is kept between. The
@@ -56,21 +62,23 @@ class Adaptive(BroadPhase):
         self._tier = tier
         self._low = TIERS[tier][2]
         self._high = TIERS[tier + 1][1] if tier + 1 < len(TIERS) else sys.maxsize
-        self.active: BroadPhase = make_broadphase(TIERS[tier][0], self._cell)
+        self.active: BroadPhase = make_broadphase(TIERS[tier][0], self.cell)
         self.active.move_buffer = self.move_buffer
-        self.pairs = self.active.pairs
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
         """The tier for the scene's body count, built from the scene itself."""
         self._choose(sum(len(bodies) for bodies in scene.by_kind.values()))
         self.active.rebuild(scene, kinds)  # the buffer is moot
 
-    def fit(self, store: BodyStore, kinds: KindSets) -> None:
+    def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> Sequence[Pair]:
+        return self.active.pairs(scene, groups, kinds)
+
+    def fit(self, scene: Counted, kinds: KindSets) -> None:
         """Bodies came or went: a new tier if the count left the one in use's."""
-        n = store.size
+        n = scene.size
         if not self._low <= n < self._high:
             self._choose(n)
-            self.active.rebuild(store, kinds)
+            self.active.rebuild(scene, kinds)
 
     def _choose(self, n: int) -> None:
         """The tier for n bodies: a tier up to the one in use is kept down to its lower

@@ -34,8 +34,11 @@ class Scene(Protocol):
     """What a broad phase reads: the tick and the live bodies of each kind, in id order
     (a `BodyStore` is one)."""
 
-    tick: int
-    by_kind: Mapping[int, Sequence[Body]]
+    @property
+    def tick(self) -> int: ...
+
+    @property
+    def by_kind(self) -> Mapping[int, Sequence[Body]]: ...
 
 
 class ZoneTest(Protocol):
@@ -51,10 +54,11 @@ class ZoneTest(Protocol):
 class Counted(Scene, Protocol):
     """A scene that keeps its body count (a `BodyStore` does)."""
 
-    size: int
+    @property
+    def size(self) -> int: ...
 
 
-class BroadPhase(Protocol):
+class BroadPhase:
     """What the detector asks of a broad phase. The concrete ones derive from it, so they
     share its defaults (`in_zone`, `fit`)."""
 
@@ -67,12 +71,12 @@ class BroadPhase(Protocol):
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
         """Start again from every body of the scene."""
-        ...
+        raise NotImplementedError
 
     def pairs(self, scene: Scene, groups: Sequence[Group], kinds: KindSets) -> Sequence[Pair]:
         """Candidate pairs (low id first), sorted by (low id, high id). Read only: a broad
         phase may hand out the same answer again."""
-        ...
+        raise NotImplementedError
 
     def in_zone(self, scene: Scene, kind: int, zone: ZoneTest, kinds: KindSets) -> list[Body]:
         """The bodies of a kind whose box over the tick meets the zone, in id order: by
@@ -82,6 +86,7 @@ class BroadPhase(Protocol):
     def fit(self, scene: Counted, kinds: KindSets) -> None:
         """Bodies came or went: a broad phase that picks itself by the body count may
         change here (told by the detector's replan). By default nothing."""
+        return None
 
 
 def ordered(a: Body, b: Body, rule: PairRule) -> Pair:
@@ -97,7 +102,7 @@ class Brute(BroadPhase):
 
     name = "brute"
     cell = 0
-    move_buffer = None
+    move_buffer: list[Body] | None = None
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
         pass
@@ -119,7 +124,7 @@ class SortAndSweep(BroadPhase):
 
     name = "sweep"
     cell = 0
-    move_buffer = None
+    move_buffer: list[Body] | None = None
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
         pass
