@@ -58,7 +58,7 @@ class Body:
         as it is."""
         clone = object.__new__(type(self))
         memo[id(self)] = clone
-        for name in _slots(type(self)):
+        for name in _slots(type(self)):  # type: ignore[arg-type]  # (a class is hashable)
             setattr(clone, name, getattr(self, name))
         clone.mask = memo.get(id(self.mask), self.mask)
         return clone

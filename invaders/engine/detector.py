@@ -173,6 +173,7 @@ class Detector:
                 return [], plan.quiet
         else:
             pairs, allowed = self._candidates(store, plan)
+        contacts: list[Contact]
         if not pairs and allowed == plan.allowed:  # nothing in a zone, no candidates
             contacts, stats = [], plan.quiet
         else:

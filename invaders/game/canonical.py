@@ -216,8 +216,8 @@ class Plain(NamedTuple):
             return None
         # (Python's own escapes are JSON's where every backslash is \u00 and a code
         # below 0x80; a digit's code moved up by 0x50.)
-        text = codecs.decode(text.replace(b"\\u003", b"\\u008"), "unicode_escape")
-        return cls(text.encode("latin-1"), True)
+        decoded = codecs.decode(text.replace(b"\\u003", b"\\u008"), "unicode_escape")
+        return cls(decoded.encode("latin-1"), True)
 
     def digits(self, digests: tuple[bytes, ...]) -> tuple[bytes, ...]:
         """A digest column's values with their escaped digits turned back."""
@@ -249,10 +249,10 @@ def read_block(block: bytes, orders: Orders | None = None) -> Block | None:
     the shapes (the orders', with white space or not) and every hash is the digest of its
     groups; else None. A block only ANY took teaches `orders` its order."""
     plain = Plain.of(block)
-    columns = None if plain is None else _columns(plain.text, orders or Orders())
-    if columns is None:  # a line of another shape
+    shaped = None if plain is None else _columns(plain.text, orders or Orders())
+    if plain is None or shaped is None:  # a line of another shape
         return None
-    order, (runs, _, ticks, hashes, *columns) = columns
+    order, (runs, _, ticks, hashes, *columns) = shaped
     numbers, groups = columns[:-len(GROUPS)], columns[-len(GROUPS):]
     digests = hashed(plain.digits(hashes), [*map(plain.digits, groups)])
     values = [*map(b",".join, zip(*numbers, strict=True))]

@@ -53,7 +53,8 @@ class Section:
     this module's import, which every run pays at start-up)."""
 
     def __repr__(self) -> str:
-        values = ", ".join(f"{f.name}={getattr(self, f.name)!r}" for f in fields(self))
+        section: Any = self  # (a dataclass: every section is one)
+        values = ", ".join(f"{f.name}={getattr(self, f.name)!r}" for f in fields(section))
         return f"{type(self).__name__}({values})"
 
     def __eq__(self, other: object) -> bool:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import json
+from collections.abc import Sequence
 from typing import Any
 
 from invaders.game.actions import ALL_ACTIONS
@@ -204,7 +205,7 @@ def players_of(header: dict[str, Any]) -> int:
 
 
 def finished(seed: int, config: GameConfig, runs: Runs, checkpoints: Checkpoints,
-            ticks: list[int], program: str, total: int, switches: list[Switch] | None = None,
+            ticks: Sequence[int], program: str, total: int, switches: list[Switch] | None = None,
             players: int = 1) -> Replay:
     """The replay, once its checkpoints' `ticks` are known to increase up to the last."""
     need(bool(ticks), "there is no checkpoint")

@@ -68,7 +68,8 @@ def _parse_blocks(header_line: str, blocks: Iterable[tuple[int, bytes]]) -> Repl
     header = decode(header_line, "the header line")
     _, seed, config, program = header_fields(header)
     players = players_of(header)
-    runs, checkpoints, switches, orders = Runs(), Checkpoints(), [], canonical.Orders()
+    runs, checkpoints, orders = Runs(), Checkpoints(), canonical.Orders()
+    switches: list[Switch] = []
     total = 0
     for first, block in blocks:
         covered = _block(block, total, runs, checkpoints, switches, orders)
@@ -159,7 +160,9 @@ def _without_blank_lines(block: bytes) -> bytes:
     is read by the regular expressions as the same without them."""
     if _BLANK_LINES.search(block):
         block = _BLANK_LINES.sub(b"\n", block)
-    return block[_FIRST_BLANK_LINES.match(block).end():]  # (the same block, if none)
+    first = _FIRST_BLANK_LINES.match(block)
+    assert first is not None  # (it matches no line, too)
+    return block[first.end():]  # (the same block, if none)
 
 
 _BLANK_LINES = re.compile(rb"\n(?:[ \t\r\x0b\x0c]*\n)+")  # (a newline first: found fast)

@@ -599,7 +599,7 @@ class World:
         cannon = self.cannon
         shot = self.shot
         ship = self.saucer
-        groups: dict[str, tuple | bytes | None] = {
+        groups: dict[str, Any] = {
             "game": (self.seed, self.tick, int(self.phase), self.phase_timer, self.score,
                      self.hi_score, self.ships, self.extra_awarded, self.wave, self.games,
                      self.fire_was_down, self.alien_fire_timer, self.shots_removed,
