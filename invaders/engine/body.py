@@ -7,10 +7,13 @@ from typing import Any
 
 import pygame
 
+from invaders.engine.compiled import mypyc_attr
+
 FAR = 1 << 60
 NOWHERE = (FAR, FAR, -FAR, -FAR)  # a fence no box is inside: every move is reported
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class Body:
     """A collidable thing at integer position (x, y), the top-left of its w x h box.
 
@@ -56,7 +59,7 @@ class Body:
         in place (a shield that erodes) puts copies of them in `memo` first. Every other
         field of a body is a number, a flag or a tuple of numbers (a test holds it), taken
         as it is."""
-        clone = object.__new__(type(self))
+        clone = type(self).__new__(type(self))
         memo[id(self)] = clone
         for name in _slots(type(self)):  # type: ignore[arg-type]  # (a class is hashable)
             setattr(clone, name, getattr(self, name))
@@ -66,7 +69,11 @@ class Body:
 
 @functools.cache
 def _slots(cls: type) -> tuple[str, ...]:
-    """Every field of a body of this class (Body's, and its subclass's own)."""
+    """Every field of a body of this class (Body's, and its subclass's own): its slots, or
+    compiled (where a class has none) the fields mypyc lists for it."""
+    compiled = getattr(cls, "__mypyc_attrs__", None)
+    if compiled is not None:
+        return tuple(compiled)
     return tuple(name for klass in cls.__mro__ for name in getattr(klass, "__slots__", ()))
 
 

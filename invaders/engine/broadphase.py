@@ -13,6 +13,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any, NamedTuple, Protocol
 
 from invaders.engine.body import Body, tick_box
+from invaders.engine.compiled import mypyc_attr
 from invaders.engine.rules import PairRule, Zone
 
 Group = tuple[PairRule, Sequence[Body], Sequence[Body]]
@@ -58,6 +59,7 @@ class Counted(Scene, Protocol):
     def size(self) -> int: ...
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (a broad phase of one's own derives from it)
 class BroadPhase:
     """What the detector asks of a broad phase. The concrete ones derive from it, so they
     share its defaults (`in_zone`, `fit`)."""
@@ -87,6 +89,12 @@ class BroadPhase:
         """Bodies came or went: a broad phase that picks itself by the body count may
         change here (told by the detector's replan). By default nothing."""
         return None
+
+
+def kept(buffer: list[Body] | None) -> list[Body]:
+    """The move buffer of a broad phase that keeps one: a list, never None."""
+    assert buffer is not None
+    return buffer
 
 
 def ordered(a: Body, b: Body, rule: PairRule) -> Pair:

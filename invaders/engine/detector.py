@@ -22,6 +22,7 @@ import pygame
 from invaders.engine import predicates
 from invaders.engine.body import Body, tick_box
 from invaders.engine.broadphase import BroadPhase, Group, KindSets, Pair, Scene
+from invaders.engine.compiled import mypyc_attr
 from invaders.engine.rules import Motion, PairRule, RuleTable, Zone
 from invaders.engine.stats import CollisionStats, Contact, contact_time, impact_time
 from invaders.engine.store import BodyStore
@@ -42,6 +43,19 @@ class DetectionObserver(Protocol):
 
     def after(self, scene: Scene, candidates: Sequence[Pair], contacts: Sequence[Contact],
               stats: CollisionStats) -> None: ...
+
+
+class Detecting(Protocol):
+    """What a world asks of its detector: a `Detector`, or what stands in its place (the
+    live lab's, which times and scores one)."""
+
+    @property
+    def broadphase(self) -> BroadPhase: ...
+
+    @property
+    def observers(self) -> list[DetectionObserver]: ...
+
+    def detect(self, store: BodyStore) -> tuple[list[Contact], CollisionStats]: ...
 
 
 class ZoneIndex:
@@ -106,6 +120,7 @@ class Plan:
     parted: dict[int, CollisionStats]
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class Detector:
     """A rules table and a broad phase, and three answers kept between ticks: the groups
     for each set of kinds present, the plan (while no body comes or goes) and the broad
@@ -144,9 +159,8 @@ class Detector:
         the last answer) is worked out again at its first tick, from the copied store: the
         same, being a function of the same bodies (a test compares a copy's reports with
         a world's given the same inputs from the start)."""
-        clone = object.__new__(Detector)
+        clone = copy.copy(self)  # (the rules, the stand-in, the kinds: shared)
         memo[id(self)] = clone
-        clone.__dict__.update(self.__dict__)  # (the rules, the stand-in, the kinds: shared)
         clone.broadphase = copy.deepcopy(self.broadphase, memo)
         clone.observers = copy.deepcopy(self.observers, memo)
         clone._plan = Plan(0, [], [], 0, 0, CollisionStats(), {})

@@ -18,9 +18,11 @@ from invaders.engine.broadphase import (
     KindSets,
     Pair,
     Scene,
+    kept,
     ordered,
     pair_key,
 )
+from invaders.engine.compiled import mypyc_attr
 
 # px: about the size of the game's bodies and gaps. `invaders study` times 4 to 128 px on
 # each scene (docs/study.md); larger cells gain little at game scale and lose in storms.
@@ -37,6 +39,7 @@ def checked_cell(cell: int) -> int:
     return cell
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (a test's spy derives from it)
 class Grid(BroadPhase):
     """Uniform grid, one layer of cells per kind, so a probe only meets kinds it may hit.
 
@@ -58,7 +61,7 @@ class Grid(BroadPhase):
 
     def __init__(self, cell: int = DEFAULT_CELL) -> None:
         self.cell = checked_cell(cell)
-        self.move_buffer: list[Body] = []
+        self.move_buffer = []
         self.layers: dict[int, dict[int, list[Body]]] = {}
         # Per layer, how many binned cells each cell row holds: a probe whose rows are all
         # empty in the other layer skips its cells at the cost of one look-up per row.
@@ -71,11 +74,11 @@ class Grid(BroadPhase):
     # --- keeping the cells in step with the store --------------------------------------------
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
         """Range every body and bin those of the probed kinds afresh (on attaching)."""
-        self.move_buffer.clear()
+        kept(self.move_buffer).clear()
         self.layers = {kind: {} for kind in scene.by_kind}
         self.rows = {kind: {} for kind in scene.by_kind}
         self.ranges = {}
-        self.move_buffer.extend(body for bodies in scene.by_kind.values() for body in bodies)
+        kept(self.move_buffer).extend(body for bodies in scene.by_kind.values() for body in bodies)
         self._drain(scene.tick, kinds)
         self.version += 1
 
@@ -88,7 +91,7 @@ class Grid(BroadPhase):
         ranges = self.ranges
         c = self.cell
         changed = False
-        buffer = self.move_buffer
+        buffer = kept(self.move_buffer)
         fenced = len(buffer) <= FEW_MOVES
         for body in buffer:
             if not body.alive:

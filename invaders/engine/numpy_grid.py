@@ -21,7 +21,16 @@ from collections.abc import Sequence
 import numpy as np
 
 from invaders.engine.body import NOWHERE, Body
-from invaders.engine.broadphase import BroadPhase, Group, KindSets, Pair, Scene, ZoneTest
+from invaders.engine.broadphase import (
+    BroadPhase,
+    Group,
+    KindSets,
+    Pair,
+    Scene,
+    ZoneTest,
+    kept,
+)
+from invaders.engine.compiled import mypyc_attr
 from invaders.engine.grid import DEFAULT_CELL, checked_cell
 
 STRIDE = 1 << 21  # cell key = cy * STRIDE + cx, with cells offset to be non-negative
@@ -29,6 +38,7 @@ OFFSET = 1 << 20
 BEYOND = np.iinfo(np.int64).max  # no cell's key
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class Boxes:
     """One kind's bodies and their boxes, row i of the arrays being `objects[i]`."""
 
@@ -215,13 +225,13 @@ class NumpyGrid(BroadPhase):
 
     def __init__(self, cell: int = DEFAULT_CELL) -> None:
         self.cell = checked_cell(cell)
-        self.move_buffer: list[Body] = []
+        self.move_buffer = []
         self.boxes: dict[int, Boxes] = {}
         self.slot: dict[int, int] = {}  # body id -> its row in its kind's table
         self._zones: dict[int, tuple[ZoneTest, np.ndarray, CellIndex]] = {}
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
-        buffer = self.move_buffer  # the store holds this very list: refill it, never replace
+        buffer = kept(self.move_buffer)  # the store holds this very list: refill it, never replace
         buffer.clear()
         buffer.extend(b for bodies in scene.by_kind.values() for b in bodies)
         for body in buffer:
@@ -236,7 +246,7 @@ class NumpyGrid(BroadPhase):
         (a swept kind's over its motion this tick, if it moved)."""
         boxes = self.boxes
         slot = self.slot
-        buffer = self.move_buffer
+        buffer = kept(self.move_buffer)
         for body in [b for b in buffer if not b.alive]:
             if body.id in slot:
                 boxes[body.kind].remove(body)

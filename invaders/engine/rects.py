@@ -21,7 +21,7 @@ from typing import Any
 import pygame
 
 from invaders.engine.body import NOWHERE, Body, tick_box
-from invaders.engine.broadphase import BroadPhase, Group, KindSets, Pair, Scene, pair_key
+from invaders.engine.broadphase import BroadPhase, Group, KindSets, Pair, Scene, kept, pair_key
 from invaders.engine.grid import DEFAULT_CELL, FEW_MOVES, checked_cell
 from invaders.engine.rules import PairRule
 
@@ -40,7 +40,7 @@ class CellRects(BroadPhase):
 
     def __init__(self, cell: int = DEFAULT_CELL) -> None:
         self.cell = checked_cell(cell)
-        self.move_buffer: list[Body] = []
+        self.move_buffer = []
         self.bodies: dict[int, list[Body]] = {}
         self.rects: dict[int, list[pygame.Rect]] = {}  # rects[kind][i] is bodies[kind][i]'s
         self.rect_of: dict[int, pygame.Rect] = {}  # body id -> its rect (the same object)
@@ -54,7 +54,7 @@ class CellRects(BroadPhase):
         """A copy with rects of its own (pygame copies a rect several times faster than
         Python's generic copy), each beside its body as here; the groups made ready are
         not kept (they are the original's, and made again when asked)."""
-        clone = object.__new__(CellRects)
+        clone = CellRects.__new__(CellRects)
         memo[id(self)] = clone
         clone.cell = self.cell
         clone.move_buffer = copy.deepcopy(self.move_buffer, memo)
@@ -69,14 +69,14 @@ class CellRects(BroadPhase):
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
         """Every body's rect afresh (on attaching)."""
-        self.move_buffer.clear()
+        kept(self.move_buffer).clear()
         self.bodies = {kind: [] for kind in scene.by_kind}
         self.rects = {kind: [] for kind in scene.by_kind}
         self.rect_of = {}
         self.bounds = dict.fromkeys(scene.by_kind)
         self._ready = {}
         self._made = ((), [])
-        self.move_buffer.extend(body for bodies in scene.by_kind.values() for body in bodies)
+        kept(self.move_buffer).extend(body for bodies in scene.by_kind.values() for body in bodies)
         self._drain(scene.tick, kinds)
 
     def _drain(self, tick: int, kinds: KindSets) -> None:
@@ -87,7 +87,7 @@ class CellRects(BroadPhase):
         rect_of = self.rect_of
         bounds = self.bounds
         c = self.cell
-        buffer = self.move_buffer
+        buffer = kept(self.move_buffer)
         fenced = len(buffer) <= FEW_MOVES
         for body in buffer:
             rect = rect_of.get(body.id)

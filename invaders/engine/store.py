@@ -19,6 +19,7 @@ from typing import Any, Protocol
 import pygame
 
 from invaders.engine.body import NOWHERE, Body
+from invaders.engine.compiled import mypyc_attr
 
 _ID = attrgetter("id")
 # Membership values, never the same twice in a process: a detector that saw one knows the
@@ -32,6 +33,7 @@ class Listener(Protocol):
     move_buffer: list[Body] | None
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class BodyStore:
     """Live bodies by kind and by id, the current tick, and the id counter."""
 
@@ -52,9 +54,8 @@ class BodyStore:
         """A copy with bodies of its own (each copied once, through `memo`); its by-id table
         made from its lists of each kind, which hold the same bodies, rather than copied
         entry by entry."""
-        clone = object.__new__(BodyStore)
+        clone = copy.copy(self)  # (its numbers; the rest made anew below)
         memo[id(self)] = clone
-        clone.__dict__.update(self.__dict__)  # (numbers)
         clone.by_kind = copy.deepcopy(self.by_kind, memo)
         clone.by_id = {body.id: body for bodies in clone.by_kind.values() for body in bodies}
         clone.listener = copy.deepcopy(self.listener, memo)

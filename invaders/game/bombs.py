@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from invaders.engine.compiled import mypyc_attr
 from invaders.engine.store import BodyStore
 from invaders.game.config import GameConfig
 from invaders.game.entities import BOMB_MASKS, Bomb, BombType
@@ -12,6 +13,7 @@ from invaders.game.rack import Rack
 STEPS_AT_LAUNCH = 1  # the launch counts as the bomb's first step (05BF)
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 @dataclass
 class BombSlot:
     """One bomb type's object: at most one bomb of each type exists, flying or bursting."""

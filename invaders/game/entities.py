@@ -8,6 +8,7 @@ from enum import Enum, IntEnum
 import pygame
 
 from invaders.engine.body import Body
+from invaders.engine.compiled import mypyc_attr
 from invaders.engine.predicates import solid_mask
 from invaders.game import art
 from invaders.game.config import SCREEN_H, SCREEN_W, GameConfig
@@ -28,6 +29,7 @@ def footprint_mask(picture: art.Art) -> pygame.mask.Mask:
 ALIEN_MASKS = tuple(tuple(footprint_mask(p) for p in pics) for pics in art.ALIEN_BY_ROW)
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class Alien(Body):
     """One rack member. Its body is the draw footprint; (x, y + 8) is its picture's corner."""
 
@@ -53,6 +55,7 @@ class CannonState(IntEnum):
     EXPLODING = 2
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class Cannon(Body):
     """The player's base. Collidable only while ACTIVE."""
 
@@ -64,6 +67,7 @@ class Cannon(Body):
         self.timer = 0
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class Shot(Body):
     """The player's single shot: its lit 1x4, so the box is the shape."""
 
@@ -91,6 +95,7 @@ BOMB_MASKS = {t: tuple(art.mask_of(p) for p in pics) for t, pics in BOMB_PICTURE
 (BOMB_H,) = {m.get_size()[1] for masks in BOMB_MASKS.values() for m in masks}
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class Bomb(Body):
     """An alien bomb: a 3x8 box with four pictures that cycle as it steps."""
 
@@ -102,6 +107,7 @@ class Bomb(Body):
         self.frame = 0
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class Bunker(Body):
     """A shield: static, with a mask of its own that erodes."""
 
@@ -111,6 +117,7 @@ class Bunker(Body):
         super().__init__(body_id, Kind.BUNKER, x, y, art.fresh_mask(art.BUNKER))
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class Saucer(Body):
     """The mystery ship, in its lane."""
 
@@ -126,6 +133,7 @@ class Saucer(Body):
 MOVES_BETWEEN_LOOKS = 16 * 8
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class Edge(Body):
     """A playfield edge as a static box: its line, and beyond it farther than a projectile
     can go between two looks, so that one that crossed the line is inside the edge at the
@@ -164,6 +172,7 @@ class Blast(Enum):
     SHOT = "shot"
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 @dataclass
 class Explosion:
     """A picture shown for `ttl` more ticks (and, for aliens, the rack waits for it)."""

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import pygame
 
+from invaders.engine.compiled import mypyc_attr
 from invaders.game import statehash
 from invaders.game.rack import Rack
 
@@ -21,6 +22,7 @@ PROMPT = 176  # frames of PLAY PLAYER<n> and the flashing score (08A1: 0xB0)
 SWITCH_TICKS = HOLD + PROMPT
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 @dataclass
 class Turn:
     """A player's things while the other plays."""

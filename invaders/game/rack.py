@@ -7,12 +7,14 @@ from bisect import bisect_left
 from collections.abc import Sequence
 from typing import Any
 
+from invaders.engine.compiled import mypyc_attr
 from invaders.engine.store import BodyStore
 from invaders.game import art
 from invaders.game.config import GameConfig
 from invaders.game.entities import ALIEN_MASKS, FOOTPRINT_ABOVE, Alien
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class Rack:
     """Aliens sit at (ref_x + 16c, ref_top - 16r) *as of their last draw*.
 
@@ -49,9 +51,8 @@ class Rack:
     def __deepcopy__(self, memo: dict[int, Any]) -> Rack:
         """A copy with aliens of its own (each copied once, through `memo`); its numbers,
         tuples and config taken as they are."""
-        clone = object.__new__(Rack)
+        clone = copy.copy(self)
         memo[id(self)] = clone
-        clone.__dict__.update(self.__dict__)
         clone.aliens = copy.deepcopy(self.aliens, memo)
         clone._live_indices = list(self._live_indices)
         return clone
@@ -159,6 +160,7 @@ class Rack:
         return self.ref_x + self._extent[0], self.ref_x + self._extent[1]
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class RackWatch:
     """Which of a rack's places (alien indices) may have changed since the last look, for
     an observer that keeps what it made of them: only the aliens drawn since, while the

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from invaders.engine.compiled import mypyc_attr
 from invaders.engine.store import BodyStore
 from invaders.game.config import GameConfig
 from invaders.game.entities import Saucer
@@ -22,6 +23,7 @@ def from_left_after(shots: int) -> bool:
     return SIDE_BITS[shots % len(SIDE_BITS)] == "1"
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 @dataclass
 class SaucerState:
     """The saucer's object (shared with the squiggly bomb in the original)."""

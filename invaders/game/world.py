@@ -20,7 +20,8 @@ import pygame
 
 from invaders.engine.adaptive import DEFAULT_BROADPHASE, make_broadphase
 from invaders.engine.body import Body
-from invaders.engine.detector import Detector
+from invaders.engine.compiled import fields, mypyc_attr
+from invaders.engine.detector import Detecting, Detector
 from invaders.engine.grid import DEFAULT_CELL
 from invaders.engine.response import respond
 from invaders.engine.stats import CollisionStats, Contact
@@ -81,6 +82,7 @@ class TickReport(NamedTuple):
     cell: int = 0
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class World:
     """The whole game state. Mutated only by step() and, within it, by collision response."""
 
@@ -89,7 +91,7 @@ class World:
         seed: int = 0,
         config: GameConfig = DEFAULT_CONFIG,
         broadphase: str = DEFAULT_BROADPHASE,
-        detector: Detector | None = None,
+        detector: Detecting | None = None,
         cell: int = DEFAULT_CELL,
         players: int = 1,
     ) -> None:
@@ -101,7 +103,7 @@ class World:
         # side is a fixed ROM sequence); a rule that ever needs chance draws from this.
         self.rng = random.Random(seed)
         self.rules = make_rules(config)
-        self.detector = detector if detector is not None else Detector(
+        self.detector: Detecting = detector if detector is not None else Detector(
             make_broadphase(broadphase, cell), self.rules)
         self.store = BodyStore(Kind)
         for edge in edges(config):  # the playfield's, for the world's whole life
@@ -138,9 +140,10 @@ class World:
         rng.setstate(self.rng.getstate())
         memo.update({id(self.config): self.config, id(self.rules): self.rules,
                      id(self.rng): rng})
-        clone = object.__new__(World)
+        clone = copy.copy(self)
         memo[id(self)] = clone
-        clone.__dict__.update(copy.deepcopy(self.__dict__, memo))
+        for name, value in fields(self).items():
+            setattr(clone, name, copy.deepcopy(value, memo))
         return clone
 
     def bodies(self, kind: Kind) -> list[Body]:
