@@ -33,17 +33,16 @@ def mask_rows(m: pygame.mask.Mask) -> tuple[str, ...]:
     return tuple("".join("#" if m.get_at((x, y)) else "." for x in range(w)) for y in range(h))
 
 
-class Scene(BodyStore):
+def store_of(bodies: Sequence[Body], tick: int = 0) -> BodyStore:
     """A hand-made scene in a store of its own, at `tick`. Each body keeps the motion and
     the `shaped_tick` it was given: the scene says itself which bodies are new in it."""
-
-    def __init__(self, bodies: Sequence[Body], tick: int = 0) -> None:
-        super().__init__(Kind)
-        self.tick = tick
-        for body in sorted(bodies, key=attrgetter("id")):
-            shaped = body.shaped_tick
-            self.add(body)
-            body.shaped_tick = shaped
+    store = BodyStore(Kind)
+    store.tick = tick
+    for body in sorted(bodies, key=attrgetter("id")):
+        shaped = body.shaped_tick
+        store.add(body)
+        body.shaped_tick = shaped
+    return store
 
 
 def active_world(seed: int = 0, **kwargs) -> World:

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from invaders.engine.adaptive import GRID_FROM, GRID_UNTIL, NUMPY_FROM, NUMPY_UNTIL, Adaptive
 from invaders.engine.body import Body
-from invaders.engine.broadphase import Brute, SortAndSweep
+from invaders.engine.broadphase import BroadPhase, Brute, SortAndSweep
 from invaders.engine.detector import Detector
 from invaders.engine.grid import Grid
 from invaders.engine.numpy_grid import NumpyGrid
@@ -20,7 +20,7 @@ from invaders.game import art
 from invaders.game.kinds import Kind
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
-from tests.helpers import GAME_RULES, SHARED_MASKS, Scene, active_world
+from tests.helpers import GAME_RULES, SHARED_MASKS, active_world, store_of
 
 
 def _random_body(rng: random.Random, body_id: int, kind: Kind, tick: int) -> Body:
@@ -55,7 +55,7 @@ def scenes(draw):
 @settings(max_examples=150, deadline=None)
 @given(bodies=scenes(), cell=st.sampled_from([4, 7, 16, 32, 64, 128]))
 def test_grid_and_brute_give_identical_contacts_in_identical_order(bodies, cell):
-    scene = Scene(bodies, tick=5)
+    scene = store_of(bodies, tick=5)
     brute_contacts, brute_stats = Detector(Brute(), GAME_RULES).detect(scene)
     grid_contacts, grid_stats = Detector(Grid(cell), GAME_RULES).detect(scene)
     assert grid_contacts == brute_contacts
@@ -169,7 +169,7 @@ def test_static_bodies_stay_binned_and_movers_rebin_only_when_cells_change():
 def test_a_body_spanning_many_cells_is_reported_once():
     saucer = Body(1, Kind.SAUCER, 0, 40, art.mask_of(art.SAUCER))
     shot = Body(2, Kind.SHOT, 10, 41, art.mask_of(art.SHOT))
-    scene = Scene([saucer, shot])
+    scene = store_of([saucer, shot])
     contacts, stats = Detector(Grid(4), GAME_RULES).detect(scene)  # the saucer covers 6x2 cells
     assert stats.candidates == 1
     assert [(c.a_id, c.b_id) for c in contacts] == [(1, 2)]
@@ -208,14 +208,28 @@ def _two_blocks(probe_at: tuple[int, int], target_at: tuple[int, int], swept: bo
     return store, grid, detector, probe, target
 
 
+class Looks(BroadPhase):
+    """A broad phase that asks the one it holds, noting the tick of each time it is asked."""
+
+    def __init__(self, inner: BroadPhase) -> None:
+        self.inner, self.ticks = inner, []
+        self.name, self.cell, self.move_buffer = inner.name, inner.cell, inner.move_buffer
+
+    def rebuild(self, scene, kinds):
+        self.inner.rebuild(scene, kinds)
+
+    def pairs(self, scene, groups, kinds):
+        self.ticks.append(scene.tick)
+        return self.inner.pairs(scene, groups, kinds)
+
+
 @ON_CELLS
 def test_the_grid_answers_from_its_last_look_only_while_no_cell_range_changes(make):
     """Candidates depend on cell ranges alone: a move inside a cell reuses the last answer
     (and the exact tests still see the new places); a move across a cell edge looks again."""
-    store, grid, detector, probe, _ = _two_blocks((0, 0), (20, 20), make=make)
-    looks = []  # the ticks on which the broad phase was asked
-    ask = grid.pairs
-    grid.pairs = lambda *args: looks.append(store.tick) or ask(*args)
+    store, grid, detector, probe, _ = _two_blocks((0, 0), (20, 20),
+                                                  make=lambda cell: Looks(make(cell)))
+    looks = grid.ticks  # the ticks on which the broad phase was asked
 
     def tick(x: int, y: int) -> tuple[int, list[tuple[int, int]]]:
         store.tick += 1

@@ -20,7 +20,7 @@ from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
 from invaders.engine.store import BodyStore, gains_pixels
 from invaders.game import art
 from invaders.game.kinds import Kind
-from tests.helpers import GAME_RULES, Scene, mask
+from tests.helpers import GAME_RULES, mask, store_of
 
 
 def _moved(body: Body, tick: int, dx: int, dy: int) -> Body:
@@ -36,7 +36,7 @@ def test_a_fast_shot_crossing_the_saucer_lane_within_one_tick_still_meets_the_sa
     saucer = Body(1, Kind.SAUCER, 100, 40, art.mask_of(art.SAUCER))
     # Rising 11 px from y 47 to 36: at the end its box (rows 36-39) is above the lane.
     shot = _moved(Body(2, Kind.SHOT, 110, 47, art.mask_of(art.SHOT)), 3, 0, -11)
-    contacts, stats = Detector(Grid(), GAME_RULES).detect(Scene([saucer, shot], tick=3))
+    contacts, stats = Detector(Grid(), GAME_RULES).detect(store_of([saucer, shot], tick=3))
     assert stats.allowed_pairs == 1
     assert [(c.a_id, c.b_id) for c in contacts] == [(1, 2)]
 
@@ -44,7 +44,7 @@ def test_a_fast_shot_crossing_the_saucer_lane_within_one_tick_still_meets_the_sa
 def test_a_zone_drops_a_pair_whose_motion_never_enters_it():
     saucer = Body(1, Kind.SAUCER, 100, 40, art.mask_of(art.SAUCER))
     shot = _moved(Body(2, Kind.SHOT, 110, 80, art.mask_of(art.SHOT)), 3, 0, -16)  # rows 64-83
-    contacts, stats = Detector(Brute(), GAME_RULES).detect(Scene([saucer, shot], tick=3))
+    contacts, stats = Detector(Brute(), GAME_RULES).detect(store_of([saucer, shot], tick=3))
     assert stats.allowed_pairs == 0 and contacts == []
 
 

@@ -885,13 +885,16 @@ def test_the_reward_is_the_points_scored_across_the_counters_wrap_at_10000():
     env.reset(seed=0)
     world = env.world
     world.score = 9990
-    step = world.step
 
-    def scoring_step(bits):  # 30 points on this frame, as a top-row alien gives
-        world.add_score(30)
-        return step(bits)
+    class Scoring:  # the world, scoring 30 points on its frame, as a top-row alien gives
+        def __getattr__(self, name):
+            return getattr(world, name)
 
-    world.step = scoring_step
+        def step(self, bits):
+            world.add_score(30)
+            return world.step(bits)
+
+    env.world = Scoring()
     _, reward, *_ = env.step(0)
     assert world.score == 20 and reward == 30.0
 

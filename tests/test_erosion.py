@@ -144,7 +144,7 @@ def test_a_low_alien_clears_its_whole_16x16_footprint():
     rack = world.rack
     rack.ref_x, rack.ref_top, rack.cursor = bunker.x, bunker.y + 8, 0
     report = world.step(0)  # draws alien 0 with its footprint over the shield's rows
-    assert [(c.a_kind.name, c.b_kind.name) for c in report.contacts] == [("ALIEN", "BUNKER")]
+    assert [(c.a_kind, c.b_kind) for c in report.contacts] == [(Kind.ALIEN, Kind.BUNKER)]
     cleared = tuple("." * 16 + row[16:] for row in art.BUNKER)
     assert mask_rows(bunker.mask) == cleared
     world.step(0)  # alien 1, 16 px to the right, clears the rest

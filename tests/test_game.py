@@ -12,6 +12,7 @@ import pytest
 
 from invaders.engine.adaptive import BROADPHASES, DEFAULT_BROADPHASE
 from invaders.engine.body import _slots
+from invaders.engine.compiled import fields
 from invaders.engine.detector import ZoneIndex
 from invaders.game import bombs
 from invaders.game.actions import Action
@@ -304,7 +305,7 @@ def test_what_a_worlds_copy_shares_with_it_nothing_changes(broadphase):
         pairs.append((active, clone.detector.broadphase.active))
     for original, copied in pairs:
         assert copied is not original
-        for name, value in vars(original).items():
+        for name, value in fields(original).items():
             if getattr(copied, name) is value:
                 assert _unchanging(value), (type(original).__name__, name, value)
 

@@ -22,7 +22,7 @@ from invaders.lab.matrix import Method
 from invaders.lab.oracle import true_contacts
 from invaders.lab.runner import SceneSpec, record, run_cell, scene_rules, truth
 from invaders.lab.shadow import Shadow
-from tests.helpers import GAME_RULES, Scene
+from tests.helpers import GAME_RULES, store_of
 
 REPLAYS = sorted((Path(__file__).resolve().parents[1] / "replays").glob("*.json"))
 DISCRETE = GAME_RULES.map(
@@ -64,7 +64,7 @@ def test_rect_tests_report_false_contacts_in_the_shield_arch_and_alien_corners()
 
     alien = Body(3, Kind.ALIEN, 20, 20, ALIEN_MASKS[4][0])  # 8-px-wide picture in a 16-px box
     in_corner = Body(4, Kind.SHOT, 21, 28, art.mask_of(art.SHOT))  # box col 1: empty
-    scene = Scene([bunker, in_arch, alien, in_corner])
+    scene = store_of([bunker, in_arch, alien, in_corner])
     rect, _ = Detector(Brute(), RECT_ONLY).detect(scene)
     masks, _ = Detector(Brute(), GAME_RULES).detect(scene)
     assert {(c.a_id, c.b_id) for c in rect} == {(1, 2), (3, 4)}
@@ -78,7 +78,7 @@ def test_the_oracle_finds_the_first_substep_of_a_swept_touch():
         body.px, body.py, body.moved_tick = body.x, body.y, 7
         body.y += dy
     lowest = max(y for y in range(8) if bomb.mask.get_at((1, y)))  # in the shot's column
-    (contact,) = true_contacts(Scene([bomb, shot], tick=7), GAME_RULES)
+    (contact,) = true_contacts(store_of([bomb, shot], tick=7), GAME_RULES)
     # They close 17 px. The shot's top starts 20 rows below the bomb's top and touches the
     # plunger's lowest lit row once it has come up 20 - that row of them.
     assert (contact.a_id, contact.b_id) == (1, 2)

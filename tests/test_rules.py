@@ -35,7 +35,8 @@ def test_the_named_exclusions():
     assert GAME_RULES.rule_for(Kind.SHOT, Kind.SAUCER).zone is not None  # only in the lane
 
 
-@pytest.mark.parametrize("rule", GAME_RULES.entries, ids=lambda r: f"{r.a.name}-{r.b.name}")
+@pytest.mark.parametrize("rule", GAME_RULES.entries,
+                         ids=lambda r: f"{Kind(r.a).name}-{Kind(r.b).name}")
 def test_each_entry_uses_the_cheapest_motion_model_that_is_exact(rule):
     if rule.motion is Motion.LANDING:  # the original tests these where they are drawn
         assert {rule.a, rule.b} in ({Kind.ALIEN, Kind.BUNKER}, {Kind.BOMB, Kind.BUNKER})

@@ -17,7 +17,7 @@ from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
 from invaders.game.kinds import Kind
 from invaders.game.replay import load, run
 from invaders.lab.methods import circles, corners_inside, rect
-from tests.helpers import GAME_RULES, Scene
+from tests.helpers import GAME_RULES, store_of
 
 BAR_RULE = RuleTable((PairRule(Kind.SHOT, Kind.BUNKER, Shape.BOX, Shape.MASK, Motion.DISCRETE,
                                reason="a bar against a slab"),), frozenset({Kind.BUNKER}))
@@ -34,7 +34,7 @@ def _passes(rules, length: int, thickness: int, step: int, start: int) -> bool:
     for tick in range(1, 200):
         bar.px, bar.py, bar.moved_tick = bar.x, bar.y, tick
         bar.y -= step
-        contacts, _ = detector.detect(Scene([slab, bar], tick))
+        contacts, _ = detector.detect(store_of([slab, bar], tick))
         if contacts:
             return False
         if bar.y + length <= 100:
@@ -86,7 +86,7 @@ def _big_scene() -> list[Body]:
 
 @pytest.mark.parametrize("cell", [1, 4, 16, 128])
 def test_big_off_screen_and_touching_bodies_agree_with_brute_force(cell):
-    scene = Scene(_big_scene())
+    scene = store_of(_big_scene())
     brute, _ = Detector(Brute(), GAME_RULES).detect(scene)
     grid, stats = Detector(Grid(cell), GAME_RULES).detect(scene)
     assert grid == brute

@@ -15,7 +15,7 @@ from invaders.engine.rules import Motion
 from invaders.game import art
 from invaders.game.entities import BOMB_MASKS, BombType
 from invaders.game.kinds import Kind
-from tests.helpers import GAME_RULES, Scene
+from tests.helpers import GAME_RULES, store_of
 
 DISCRETE_RULES = GAME_RULES.map(
     lambda r: r if r.motion is Motion.LANDING else replace(r, motion=Motion.DISCRETE))
@@ -32,7 +32,7 @@ def _close(detector: Detector, shot_speed: int, bomb_speed: int, column: int, ga
         for body, dy in ((shot, -shot_speed), (bomb, bomb_speed)):
             body.px, body.py, body.moved_tick = body.x, body.y, tick
             body.y += dy
-        contacts, _ = detector.detect(Scene([bomb, shot], tick))
+        contacts, _ = detector.detect(store_of([bomb, shot], tick))
         if contacts:
             return tick
         if shot.y + shot.h <= bomb.y:  # the shot is wholly above the bomb: they have passed
