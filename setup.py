@@ -5,12 +5,14 @@ import os
 
 from setuptools import setup
 
-# The modules a tick runs through (the engine's and the game's), compiled together.
+# The modules a tick runs through (the engine's and the game's), and the picture's drawing
+# (the environment's pictures and the window's), compiled together.
 CORE = [f"invaders/engine/{name}.py" for name in (
     "adaptive", "body", "broadphase", "detector", "grid", "numpy_grid", "predicates",
     "rects", "response", "rules", "store")] + [f"invaders/game/{name}.py" for name in (
         "actions", "art", "bombs", "entities", "events", "kinds", "players", "rack",
-        "rules", "saucer", "statehash", "world")]
+        "rules", "saucer", "statehash", "world")] + [
+            "invaders/lab/picture.py", "invaders/lab/rack_layer.py"]
 
 
 def compiled_core() -> list:

@@ -12,6 +12,7 @@ from typing import NamedTuple
 import numpy as np
 import pygame
 
+from invaders.engine.compiled import mypyc_attr
 from invaders.game import art
 from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.entities import BOMB_PICTURES, CannonState
@@ -43,6 +44,7 @@ def gel_surface() -> pygame.Surface:
 TEXTS_KEPT = 256  # lines of text kept drawn (the score bar's change only with the score)
 
 
+@mypyc_attr(allow_interpreted_subclasses=True)  # (a test's drawn afresh derives from it)
 class Picture:
     """The logical screen, its sprites' surfaces and the gel, kept between frames. The
     screen may be given with the array it is made over (`pygame.image.frombuffer`), so
@@ -127,10 +129,11 @@ class Picture:
         shows = backdrop_key(world)
         kept = self._backdrops.get(slot)
         if kept is not None and kept[0] == shows:
-            if self.canvas is not None:
-                np.copyto(self.canvas, kept[1])
-            else:
-                self.screen.blit(kept[1], (0, 0))
+            backdrop, canvas = kept[1], self.canvas
+            if isinstance(backdrop, pygame.Surface):
+                self.screen.blit(backdrop, (0, 0))
+            elif canvas is not None:  # (over an array: kept as one)
+                np.copyto(canvas, backdrop)
             return
         self.clear()
         self._draw_hud(world)

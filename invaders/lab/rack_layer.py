@@ -13,6 +13,8 @@ an RGB one 1.05 (21 rounds in turn, fresh processes).
 
 from __future__ import annotations
 
+from typing import Any, Literal, cast
+
 import numpy as np
 import pygame
 
@@ -30,10 +32,11 @@ class RackLayer:
 
     def __init__(self, screen: pygame.Surface, canvas: np.ndarray, sprites: Sprites) -> None:
         self.array = np.zeros_like(canvas)
-        form = "P" if canvas.ndim == 2 else "RGB"
-        self.surface = pygame.image.frombuffer(self.array, screen.get_size(), form)
+        form: Literal["P", "RGB"] = "P" if canvas.ndim == 2 else "RGB"
+        # (numpy's stubs give an array the buffer protocol from Python 3.12 on)
+        self.surface = pygame.image.frombuffer(self.array, screen.get_size(), form)  # type: ignore[arg-type]
         if form == "P":
-            self.surface.set_palette(screen.get_palette())
+            self.surface.set_palette(_palette(screen))
         # Sprites of its own: SDL keeps how a surface was last blitted (to which surface)
         # and redoes it, run-length coding and all, for another one, so layers sharing
         # sprites (a batch's games') would redo it at every blit.
@@ -49,7 +52,7 @@ class RackLayer:
         mask = art.mask_of(picture)
         eraser = pygame.Surface(mask.get_size(), 0, self.surface)
         if eraser.get_bitsize() == 8:  # (a new 8-bit surface has a palette of its own)
-            eraser.set_palette(self.surface.get_palette())
+            eraser.set_palette(_palette(self.surface))
         eraser.fill(KEY)
         mask.to_surface(eraser, setcolor=(0, 0, 0), unsetcolor=None)
         eraser.set_colorkey(KEY, pygame.RLEACCEL)
@@ -81,3 +84,9 @@ class RackLayer:
         if top < bottom:
             band = canvas[top:bottom]
             np.bitwise_or(band, self.array[top:bottom], out=band)
+
+
+def _palette(surface: pygame.Surface) -> Any:
+    """A surface's palette: a tuple, where pygame's stubs say a list (which compiled code,
+    taking them at their word, would check and refuse)."""
+    return cast(Any, surface).get_palette()
