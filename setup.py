@@ -16,6 +16,7 @@ CORE = [f"invaders/engine/{name}.py" for name in (
 
 
 def compiled_core() -> list:
+    """The core's C extensions when INVADERS_COMPILE=1 asks for them; else none."""
     if os.environ.get("INVADERS_COMPILE") != "1":
         return []
     from mypyc.build import mypycify

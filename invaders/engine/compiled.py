@@ -1,7 +1,7 @@
 """What the compiled build (the core compiled by mypyc: docs/compiled.md) needs to be told of
-a class, and the one helper that copies a class's fields either way. Interpreted, the notes
-are nothing: `mypyc_attr` is mypy's own marker when mypy is installed, else a decorator
-that returns the class as it is."""
+a class, and the one helper that reads an object's fields either way. Interpreted, the
+notes are nothing: `mypyc_attr` is mypy's own marker when mypy is installed, else a
+decorator that returns the class as it is."""
 
 from __future__ import annotations
 
