@@ -10,7 +10,7 @@ from collections.abc import Callable, Sequence
 from typing import NamedTuple, NoReturn
 
 from invaders import __version__
-from invaders.engine.adaptive import BROADPHASES, DEFAULT_BROADPHASE
+from invaders.engine.adaptive import BROADPHASES, COMPILED, DEFAULT_BROADPHASE
 from invaders.engine.grid import DEFAULT_CELL
 from invaders.lab import choices
 from invaders.lab.styles import STYLES
@@ -408,13 +408,6 @@ def cmd_replay(args: argparse.Namespace) -> int:
     return check_all(args.paths, update=args.update, broadphase=args.broadphase)
 
 
-def _core() -> str:
-    """How the engine and the game run here: "compiled" (by mypyc) or "interpreted"."""
-    from invaders.engine import detector  # (compiled with the rest of the core, or not)
-
-    return "interpreted" if detector.__file__.endswith(".py") else "compiled"
-
-
 def cmd_bench(args: argparse.Namespace) -> int:
     from invaders.app.headless import use_dummy_drivers
 
@@ -430,7 +423,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
         return 0
 
     use_dummy_drivers()
-    print(f"core: {_core()} (docs/compiled.md)")
+    print(f"core: {'compiled' if COMPILED else 'interpreted'} (docs/compiled.md)")
     if args.reading:
         from invaders.app.readbench import reading_bench
 

@@ -36,7 +36,7 @@ GRID_UNTIL = 160
 # grid comes back. Compiled (docs/compiled.md) the grid's loops run as C and hold out
 # longer: storms timed in turn put the crossing near 2,400 bodies there (grid/numpy 0.92x
 # at 2,000, 1.14x at 3,000), near 800 interpreted.
-COMPILED = not __file__.endswith(".py")
+COMPILED = not __file__.endswith(".py")  # (the core is built one way or the other whole)
 NUMPY_FROM, NUMPY_UNTIL = (2500, 2000) if COMPILED else (800, 600)
 # The automatic choice's broad phases, smallest scenes first: each with the body count
 # from which it is taken, and the count below which it is left again.
