@@ -11,6 +11,7 @@ same cycles the alien that shoots the extra C of INSERT CCOIN. Enter or 1 starts
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Protocol
 
 import pygame
 
@@ -25,6 +26,16 @@ DEMO_SEED = 1978
 STILLS = {"title": (2, None), "table": (8, None), "pull": (12, 50), "insert": (-4, None)}
 
 Card = list[tuple[str, int, int]]
+
+
+class Demo(Protocol):
+    """The demo's game as the cycle drives it (the window's session of an autopilot game)."""
+
+    world: World
+    target: pygame.Surface
+    needs_draw: bool
+
+    def frame(self, held: int) -> bool: ...
 
 
 def card(still: str) -> tuple[Card, list[tuple[art.Art, int, int]]]:
@@ -42,7 +53,7 @@ class Attract:
     game lasts); the first cycle has the animations, and every other one after it."""
 
     def __init__(self, target: pygame.Surface, clock: Callable[[], float], scale: int,
-                 scores: World, make_demo: Callable[[], object]) -> None:
+                 scores: World, make_demo: Callable[[], Demo]) -> None:
         self.target = target
         self.clock = clock
         self.scores = scores  # the player's world: its score bar is shown throughout
@@ -55,7 +66,7 @@ class Attract:
         self.script = Script(self.animated)
         self.index = 0
         self.since = self.clock()  # when the current step began
-        self.demo = None
+        self.demo: Demo | None = None
         self.shown: tuple | None = None  # what the last drawing showed
 
     @property

@@ -388,6 +388,7 @@ def cmd_play(args: argparse.Namespace) -> int:
 def _unused_play_flag(args: argparse.Namespace) -> str | None:
     """The first flag given that this way of playing would leave unused, and why (a flag
     that does nothing without a word is a surprise); None if every one given is used."""
+    unused: tuple[str, ...]
     if args.screenshot:
         mode, unused = "--screenshot plays a game of its own", ("replay", "record", "speed")
     elif args.replay:
@@ -524,16 +525,15 @@ def cmd_study(args: argparse.Namespace) -> int:
     from invaders.app.headless import use_dummy_drivers
 
     use_dummy_drivers()
-    if args.replays is not None:
-        replays: Path | None = Path(args.replays)
-        if not replays.is_dir() or not any(replays.glob("*.json")):
+    # (by default ./replays, as in a checkout; elsewhere the storms alone)
+    folder = Path(args.replays if args.replays is not None else "replays")
+    replays: Path | None = folder
+    if not folder.is_dir() or not any(folder.glob("*.json")):
+        if args.replays is not None:
             raise UsageError(f"--replays {args.replays!r}: no folder of replay files (*.json)")
-    else:  # by default ./replays, as in a checkout; elsewhere the storms alone
-        replays = Path("replays")
-        if not replays.is_dir() or not any(replays.glob("*.json")):
-            print("study: no ./replays folder here: studying the storms only "
-                  "(--replays FOLDER adds recorded games)")
-            replays = None
+        print("study: no ./replays folder here: studying the storms only "
+              "(--replays FOLDER adds recorded games)")
+        replays = None
     if args.scheduler:
         _reach_scheduler(args.scheduler)
     out = Path(args.out)

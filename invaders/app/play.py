@@ -240,10 +240,11 @@ class Session:
                 break
             bits = self._tick_input(held)
             if self.inputs is not None:
-                bits = next(self.inputs, None)
-                if bits is None:
+                replayed = next(self.inputs, None)
+                if replayed is None:
                     self.replay_done = True
                     break
+                bits = replayed
             while self.switches and self.switches[-1][0] == self.world.tick:
                 self._replay_switch(self.switches.pop()[1])
             self.report = self.world.step(bits)
@@ -253,9 +254,9 @@ class Session:
             if self.recorder is not None:
                 self.recorder.tick(bits)  # exactly what the tick used
             self._compare()
-        ticks = self.checkpoints.ticks()
+        checked = self.checkpoints.ticks()
         if self.inputs is not None and not self.replay_done and self.world.tick >= (
-                ticks[-1] if ticks else 0):
+                checked[-1] if checked else 0):
             self.replay_done = next(self.inputs, None) is None
             self.needs_draw = True
         if not ran and not self.needs_draw:
@@ -408,7 +409,8 @@ class App:
     def _prompt_frame(self) -> bool:
         """A frame of PLAY PLAYER<1>; when its time is up, the game. Returns whether it drew."""
         left = PROMPT - int((self.clock() - self.prompt_since) * FPS)
-        session = self.session
+        session, attract = self.session, self.attract
+        assert attract is not None  # (the prompt follows the attract cycle's start keys)
         if left <= 0:
             self.mode = "game"
             session.loop.resume()
@@ -419,8 +421,8 @@ class App:
         if self.prompted is not None and (self.prompted.left & 4) == (left & 4):
             return False
         self.prompted = prompt
-        self.attract.renderer.draw_card(session.target, session.world,
-                                        [("PLAY PLAYER<1>", 56, 112)], [], prompt)
+        attract.renderer.draw_card(session.target, session.world,
+                                   [("PLAY PLAYER<1>", 56, 112)], [], prompt)
         return True
 
     def _demo(self) -> Session:

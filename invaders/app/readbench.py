@@ -246,7 +246,7 @@ def _spread_switches(source: Path, path: Path, size: int) -> int:
     return with_switches(source, path, every, size, most=MAX_SWITCHES)
 
 
-COMPACT = {"separators": (",", ":")}
+COMPACT: dict[str, Any] = {"separators": (",", ":")}  # json.dumps' most compact
 Writer = Callable[[Path, Path, int], int]  # (the longest replay, the file, its size): ticks
 # The longest valid replay written other valid ways: (file, label, writer), in the order read.
 REWRITES: tuple[tuple[str, str, Writer], ...] = (

@@ -13,7 +13,7 @@ from __future__ import annotations
 import struct
 from itertools import accumulate
 from math import gcd
-from typing import Any, NamedTuple
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 import pygame
@@ -45,9 +45,11 @@ class PixelObserver:
     strided read for numpy (4 against 52 us, a script)."""
 
     def __init__(self, grayscale: bool) -> None:
-        shape, form = ((SCREEN_H, SCREEN_W), "P") if grayscale else ((SCREEN_H, SCREEN_W, 3), "RGB")
+        shape: tuple[int, ...] = (SCREEN_H, SCREEN_W) if grayscale else (SCREEN_H, SCREEN_W, 3)
+        form: Literal["P", "RGB"] = "P" if grayscale else "RGB"
         self.canvas = np.zeros(shape, np.uint8)  # what is drawn, untinted
-        screen = pygame.image.frombuffer(self.canvas, (SCREEN_W, SCREEN_H), form)
+        screen = pygame.image.frombuffer(  # (numpy's stubs: a buffer from Python 3.12 on)
+            self.canvas, (SCREEN_W, SCREEN_H), form)  # type: ignore[arg-type]
         if grayscale:  # (each byte its own grey: the white sprites land as 255)
             screen.set_palette([(level,) * 3 for level in range(256)])
         self.picture = Picture(screen, self.canvas)
@@ -124,7 +126,9 @@ class StateObserver:
         self._watch = RackWatch()
 
     def observe(self, world: World) -> np.ndarray:
-        out, aliens = self.out, world.rack.aliens
+        # (packed into as a buffer: numpy's stubs give an array one from Python 3.12 on)
+        out: Any = self.out
+        aliens = world.rack.aliens
         _BEFORE.pack_into(out, 0, *_before(world))
         places = self._watch.changed(world.rack)
         if len(places) == len(aliens):
@@ -134,7 +138,7 @@ class StateObserver:
             for index in places:
                 _PLACE.pack_into(out, (ALIENS_AT + 3 * index) * FLOAT, *_place(aliens[index]))
         _AFTER.pack_into(out, AFTER_AT * FLOAT, *_after(world))
-        return out
+        return self.out
 
 
 def _before(world: World) -> list[float]:
@@ -212,7 +216,8 @@ class Axis(NamedTuple):
             found.append((slice(start, stop), span,
                           np.ascontiguousarray(weights[start:stop, span])))
             start = stop
-        return cls(common, *reversed(weights.shape), tuple(found))
+        period_out, period_in = weights.shape
+        return cls(common, period_in, period_out, tuple(found))
 
 
 class Shrink:

@@ -18,10 +18,11 @@ import tempfile
 from dataclasses import dataclass
 from math import inf
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
+import pygame
 from gymnasium import spaces
 
 from invaders.atomic import write_new
@@ -96,7 +97,7 @@ class EnvState:
 class SpaceInvadersEnv(gym.Env):
     """One game a episode, from its first wave to game over; see the module docstring."""
 
-    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["human", "rgb_array"], "render_fps": 60}
+    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 60}  # noqa: RUF012 (Gymnasium's)
 
     def __init__(self, obs_type: str = "rgb", frameskip: int | tuple[int, int] = 4,
                  repeat_action_probability: float = 0.25, full_action_space: bool = False,
@@ -130,7 +131,7 @@ class SpaceInvadersEnv(gym.Env):
         self._picture_alone = obs_type != "state" and resize is None and stack == 1
         self._state = StateObserver()
         self._shown: PixelObserver | None = None  # for render(), when observations are not RGB
-        self._window = None
+        self._window: pygame.Surface | None = None  # the human render's
         self._record = _record_folder(record)
         self._replay: Replay | None = None
         self._episodes = 0
@@ -271,15 +272,16 @@ class SpaceInvadersEnv(gym.Env):
         each time). A state without the generator leaves this one as it is, as ALE's."""
         if self.world is None:
             raise RuntimeError("call reset() before restore_state()")
-        if self._stack is not None and (state.stacked is None
-                                        or state.stacked.shape != self._stack.frames.shape):
+        stacked = state.stacked
+        if self._stack is not None and (stacked is None
+                                        or stacked.shape != self._stack.frames.shape):
             raise ValueError("restore_state: the state is of an environment that stacks "
                              "other pictures")
         self.world = copy.deepcopy(state.world)
         self._previous, self._episode_frames = state.previous, state.episode_frames
         self.frame_number = state.frame_number
-        if self._stack is not None:
-            self._stack.frames[:] = state.stacked
+        if self._stack is not None and stacked is not None:  # (both, as checked above)
+            self._stack.frames[:] = stacked
         self._replay = copy.deepcopy(state.replay)
         if state.draws is not None:
             self._draws.setstate(state.draws)
@@ -301,8 +303,6 @@ class SpaceInvadersEnv(gym.Env):
     def close(self) -> None:
         self._save_episode()
         if self._window is not None:
-            import pygame
-
             pygame.display.quit()
             self._window = None
 
@@ -364,8 +364,6 @@ class SpaceInvadersEnv(gym.Env):
         write_new(self._record / name, "".join(replay.lines()))  # (never over another's)
 
     def _show(self, picture: np.ndarray) -> None:
-        import pygame
-
         if self._window is None:
             pygame.display.init()
             self._window = pygame.display.set_mode((SCREEN_W * 3, SCREEN_H * 3))

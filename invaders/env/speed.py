@@ -19,6 +19,7 @@ import gymnasium
 import numpy as np
 
 import invaders.env  # noqa: F401  (registers the id)
+from invaders.env.space_invaders import SpaceInvadersEnv
 from invaders.lab.ale import available
 from invaders.lab.timing import no_gc
 
@@ -105,8 +106,9 @@ def _clone_row(rounds: int) -> None:
     """Cloning and restoring a state (the state vector's environment; ALE's RAM's), ours
     against ALE's, reported (no goal)."""
     ours, theirs = gymnasium.make(ENV_ID, obs_type="state"), ale_env("ram")
-    ale = theirs.unwrapped.ale
-    runs = {"ours": _cloner(ours, ours.unwrapped.clone_state, ours.unwrapped.restore_state),
+    ale, game = theirs.unwrapped.ale, ours.unwrapped
+    assert isinstance(game, SpaceInvadersEnv)
+    runs = {"ours": _cloner(ours, game.clone_state, game.restore_state),
             "ALE": _cloner(theirs, ale.cloneState, ale.restoreState)}
     rates = _rates(runs, rounds)
     print(f"   clone and restore a state: ours {_figure(rates['ours'], 'a second')}   ALE "
@@ -114,7 +116,7 @@ def _clone_row(rounds: int) -> None:
 
 
 VECTOR_GOAL = 1.5  # the native batch against Gymnasium's sync vector of single games
-VECTOR_OPTIONS = {"obs_type": "grayscale", "resize": (84, 84), "stack": 4}
+VECTOR_OPTIONS: dict[str, Any] = {"obs_type": "grayscale", "resize": (84, 84), "stack": 4}
 
 
 def _vector_stepper(mode: str, n: int, **extra: Any) -> Callable[[int], float]:

@@ -13,7 +13,7 @@ draws and shrinks its games' grey pictures together (games.py).
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
@@ -52,6 +52,8 @@ class SpaceInvadersVectorEnv(VectorEnv):
         self.action_space = batch_space(self.single_action_space, num_envs)
         self.render_mode = options.get("render_mode")
         shape, dtype = self.single_observation_space.shape, self.single_observation_space.dtype
+        assert shape is not None  # (a Box's)
+        self._action_count = len(single.get_action_meanings())
         self._games: Games | Pool
         if workers == 1:
             self._games = Games(num_envs, Rows.zeros(num_envs, shape, dtype), options)
@@ -81,7 +83,7 @@ class SpaceInvadersVectorEnv(VectorEnv):
                                           dict[str, Any]]:
         actions = np.asarray(actions)
         if (actions.shape != (self.num_envs,) or actions.dtype.kind not in "iu"
-                or actions.min() < 0 or actions.max() >= self.single_action_space.n):
+                or actions.min() < 0 or actions.max() >= self._action_count):
             raise ValueError(f"actions {actions!r} are not in {self.action_space}")
         self._games.step(actions.tolist())
         rows = self._rows
@@ -91,7 +93,7 @@ class SpaceInvadersVectorEnv(VectorEnv):
     def render(self) -> tuple[np.ndarray, ...] | None:
         if self.render_mode != "rgb_array":
             return None
-        return tuple(env.render() for env in self.envs)
+        return tuple(cast(np.ndarray, env.render()) for env in self.envs)  # (rgb_array's)
 
     def close_extras(self, **kwargs: Any) -> None:
         self._games.close()

@@ -216,6 +216,7 @@ def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Spe
     while True:
         if not _spin_then_take(go):
             go.acquire()
+        argument: Any  # (the command's: a reset's seeds)
         command, argument = conn.recv() if conn.poll() else ("step", None)
         spilled: dict[int, list[Event]] = {}
         try:

@@ -132,9 +132,9 @@ def against(rev: str, ticks: int, seed: int, rounds: int) -> int:
             for index in range(rounds):
                 order = ("this", "other") if index % 2 == 0 else ("other", "this")
                 for what in ("game", "replay"):
-                    for side in order:
-                        seconds.setdefault((side, what), []).append(
-                            sides[side].seconds(what))
+                    for who in order:
+                        seconds.setdefault((who, what), []).append(
+                            sides[who].seconds(what))
         finally:
             for side in sides.values():
                 side.close()

@@ -20,11 +20,12 @@ CYCLE = ([int(Action.FIRE)] + [int(Action.RIGHT)] * 15 + [0] * 4
 
 
 def available() -> bool:
+    """Whether ale-py is installed with the Space Invaders ROM (it ships its ROMs)."""
     try:
-        import ale_py  # noqa: F401
+        from ale_py import roms
     except ImportError:
         return False
-    return True
+    return roms.get_rom_path("space_invaders") is not None
 
 
 def _ale_action(bits: int) -> Any:
@@ -47,7 +48,9 @@ def emulator(seed: int) -> Any:
     ale.setInt("random_seed", seed)
     ale.setInt("frame_skip", 1)
     ale.setFloat("repeat_action_probability", 0.0)
-    ale.loadROM(roms.get_rom_path("space_invaders"))
+    rom = roms.get_rom_path("space_invaders")
+    assert rom is not None, "ale-py without the Space Invaders ROM: see available()"
+    ale.loadROM(rom)
     return ale
 
 

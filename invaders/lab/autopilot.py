@@ -12,6 +12,8 @@ import random
 
 from invaders.engine.predicates import solid_mask
 from invaders.game.actions import Action
+from invaders.game.config import Speeds
+from invaders.game.rack import Rack
 from invaders.game.world import ACTIVE, GAME_OVER, World
 from invaders.lab.styles import STYLES
 
@@ -66,7 +68,8 @@ class Autopilot:
         self._target: int | None = None
         self._has_targets = False
         self._columns = ShooterColumns()
-        self._speeds = None  # the bombs' speeds last seen, and per tick: (fast from, fast, slow)
+        # the bombs' speeds last seen, and per tick: (fast from, fast, slow)
+        self._speeds: Speeds | None = None
         self._per_tick = (0, 0.0, 0.0)
 
     def actions(self, world: World) -> int:
@@ -241,7 +244,7 @@ class ShooterColumns:
     column's lowest changes only then) or a new rack comes."""
 
     def __init__(self) -> None:
-        self._rack = None
+        self._rack: Rack | None = None
         self._live = -1
         self._which = ""
         self._found: list = []

@@ -74,8 +74,8 @@ class ArcadeField:
 
         self._check = arcade.check_for_collision_with_list
         self.firsts = [(sprite, arcade_box(arcade, *sprite.rect)) for sprite in group_a]
-        self.seconds = arcade.SpriteList(use_spatial_hash=True, lazy=True,
-                                         spatial_hash_cell_size=ARCADE_CELL)
+        self.seconds: Any = arcade.SpriteList(use_spatial_hash=True, lazy=True,
+                                              spatial_hash_cell_size=ARCADE_CELL)
         self._pygame: dict[Any, pygame.sprite.Sprite] = {}
         for sprite in group_b:
             twin = arcade_box(arcade, *sprite.rect)

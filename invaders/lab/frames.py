@@ -27,15 +27,16 @@ class Frame:
     """One tick's collidable bodies as the detector saw them, and what it found."""
 
     tick: int
-    bodies: dict[Kind, list[BodyRow]]
+    bodies: dict[int, list[BodyRow]]  # by kind
     contacts: list[Contact]
 
 
 def snapshot(scene, contacts: Sequence[Contact] = ()) -> Frame:
     """The scene's bodies now (shield masks copied)."""
-    bodies = {kind: [(b.id, b.x, b.y, b.px, b.py, b.moved_tick,
-                      b.mask.copy() if kind is Kind.BUNKER else b.mask)
-                     for b in scene.by_kind[kind]] for kind in Kind}
+    bodies: dict[int, list[BodyRow]] = {
+        kind: [(b.id, b.x, b.y, b.px, b.py, b.moved_tick,
+                b.mask.copy() if kind is Kind.BUNKER else b.mask)
+               for b in scene.by_kind[kind]] for kind in Kind}
     return Frame(scene.tick, bodies, list(contacts))
 
 

@@ -242,6 +242,7 @@ class LabDetector:
         looks = self.sampler is None or self.sampler.due(tick)
         clock = self.clock
         started = clock() if clock is not None else 0.0
+        contacts: list[Contact]
         if not looks:
             contacts, stats = [], CollisionStats()
         elif self.sampler is None:

@@ -44,6 +44,8 @@ BIG_STORM = 30000  # bodies, with --big (brute force left out, as above BRUTE_LI
 def make_plan(replays: Iterable[Path], quick: bool, big: bool = False) -> Plan:
     replays = sorted(replays)
     plan = Plan()
+    multipliers: tuple[int, ...]
+    sizes: tuple[int, ...]
     if quick:
         replays, replay_ticks, storm_ticks = replays[:2], 600, 8
         multipliers, sizes = (1, 4, 16), (100, 300, 1000)
@@ -200,15 +202,12 @@ def study(out: Path, replays: Path | None, quick: bool = False, jobs: int = 1,
     for line in summary(rows, scale):
         print(line)
     try:
-        from invaders.lab import charts
-    except ImportError:  # pragma: no cover - only without matplotlib
-        charts = None
-    try:
         import matplotlib  # noqa: F401
     except ImportError:
         print("charts skipped: install the [chart] extra (matplotlib) to draw them")
         return 0
-    assert charts is not None
+    from invaders.lab import charts  # (it draws with matplotlib)
+
     charts.speed_accuracy(rows, out / "speed_accuracy.png")
     if recorded:  # the counters chart follows a recorded game
         charts.counters(game_counters(recorded[0]), out / "counters.png",
@@ -244,7 +243,7 @@ def game_scale(rows: list[dict]) -> list[str]:
     default = "auto/rect/mask/auto/every1"  # the game's own broad phase
     if default not in exact:
         return []
-    best = min(exact, key=exact.get)
+    best = min(exact, key=lambda method: exact[method])
     return [f"at game scale ({len(scenes)} replays): default {exact[default]:.2f} us a tick; "
             f"best exact single method {best} {exact[best]:.2f} us "
             f"({exact[default] / exact[best]:.2f}x)"]

@@ -9,7 +9,8 @@ from __future__ import annotations
 
 import importlib
 import time
-from typing import Any, NamedTuple
+from collections.abc import Callable
+from typing import Any, NamedTuple, cast
 
 import pygame
 
@@ -37,7 +38,7 @@ def sprite_groups(frame: Frame) -> list[tuple[pygame.sprite.Group, pygame.sprite
     for rule in GAME_RULES:
         sides = []
         for kind, shape in ((rule.a, rule.a_shape), (rule.b, rule.b_shape)):
-            group = pygame.sprite.Group()
+            group: pygame.sprite.Group = pygame.sprite.Group()
             for body_id, x, y, _px, _py, _moved, mask in frame.bodies[kind]:
                 shape_mask = mask if shape is Shape.MASK else solid_mask(*mask.get_size())
                 group.add(_Sprite(body_id, x, y, shape_mask))
@@ -65,14 +66,16 @@ def pairs_of(results: list) -> set[tuple[int, int]]:
     return pairs
 
 
+# collide_mask as groupcollide's predicate: pygame's stubs want one that gives a bool,
+# where collide_mask gives the first point the masks share or None (as pygame's docs say).
+COLLIDE_MASK = cast(Callable[[Any, Any], bool], pygame.sprite.collide_mask)
 GroupPairs = list[tuple[pygame.sprite.Group, pygame.sprite.Group]]
 
 
 def naive_collide(groups: GroupPairs) -> list:
     """The naive pygame user: `groupcollide(a, b, False, False, collide_mask)` over every
     rule's pair of groups of one frame."""
-    mask = pygame.sprite.collide_mask
-    return [pygame.sprite.groupcollide(a, b, False, False, mask) for a, b in groups]
+    return [pygame.sprite.groupcollide(a, b, False, False, COLLIDE_MASK) for a, b in groups]
 
 
 def careful_collide(groups: GroupPairs) -> list:
@@ -99,7 +102,7 @@ def groupcollide_us(frames: list[Frame], budget: float = 5.0) -> float:
             groups = sprite_groups(frame)
             start = time.perf_counter()
             for a, b in groups:
-                pygame.sprite.groupcollide(a, b, False, False, pygame.sprite.collide_mask)
+                pygame.sprite.groupcollide(a, b, False, False, COLLIDE_MASK)
             seconds += time.perf_counter() - start
             count += 1
             if seconds > budget:
@@ -247,9 +250,9 @@ class ArcadeScene(KeptScene):
         import arcade
 
         self.arcade = arcade
-        self.lists = {kind: arcade.SpriteList(use_spatial_hash=True, lazy=True,
-                                              spatial_hash_cell_size=ARCADE_CELL)
-                      for kind in {kind for frame in frames for kind in frame.bodies}}
+        kinds = {kind for frame in frames for kind in frame.bodies}
+        self.lists: dict[int, Any] = {kind: arcade.SpriteList(
+            use_spatial_hash=True, lazy=True, spatial_hash_cell_size=ARCADE_CELL) for kind in kinds}
         self.sprites: dict[int, Any] = {}
         self.steps = frame_changes(frames, rules)
         self._apply(self.steps[0])  # the first frame's bodies: made before any timing
@@ -299,8 +302,8 @@ def arcade_steady_us(frames: list[Frame], rules=GAME_RULES) -> float | None:
     return _steady_us("arcade", ArcadeScene, frames, rules)
 
 
-def _steady_us(module: str, scene: type[KeptScene], frames: list[Frame], rules
-               ) -> float | None:
+def _steady_us(module: str, scene: Callable[[list[Frame], Any], KeptScene],
+               frames: list[Frame], rules) -> float | None:
     """The median of three plays of the frames after the first (as ours), microseconds a
     frame; None if the reference's module is not installed."""
     try:
