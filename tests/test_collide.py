@@ -193,22 +193,44 @@ def test_the_fast_path_is_taken_and_agrees_on_big_groups(collided, monkeypatch):
 
 @pytest.mark.parametrize("collided", PREDICATES[:4])
 @pytest.mark.parametrize("holder", ["group", "layered", "list"])
+@pytest.mark.parametrize("kill_b", [False, True])
 def test_big_groups_pair_their_boxes_by_a_sort_first_and_give_pygames_answers(
-        collided, holder, monkeypatch):
+        collided, holder, kill_b, monkeypatch):
     # 600 x 500 sprites, sizes -3 to 29 and masks of every kind, about one in 20 x 20 px:
-    # boxes that overlap, touch, nest, or have no size, as pygame meets them.
+    # boxes that overlap, touch, nest, or have no size, as pygame meets them; with
+    # dokillb, each sprite of the second group met once (a group) or again (a list).
     near, calls = collide._collide_near, []
     monkeypatch.setattr(collide, "_collide_near", lambda *a: calls.append(1) or near(*a))
     results = []
     for function in (pygame.sprite.groupcollide, collide.groupcollide):
         side_a, side_b = _scene(11, 600, 500, span=500)
         group_a, group_b, b = _groups(side_a, side_b, holder)
-        found = function(group_a, b, holder == "list", False, collided)  # (kills on a side)
+        found = function(group_a, b, holder == "list", kill_b, collided)  # (kills on a side)
         results.append(([(_named([k], side_a, side_b), _named(vs, side_a, side_b))
                          for k, vs in found.items()],
                         _named(group_a, side_a, side_b), _named(group_b, side_a, side_b)))
     assert results[0] == results[1]
-    assert len(results[0][0]) > 200 and calls == [1]
+    assert len(results[0][0]) > 100 and calls == [1]
+    if kill_b:  # (the second group's sprites that were met are gone)
+        assert len(results[0][2]) < 500 - 100
+
+
+def test_a_sprite_with_no_picture_met_once_the_second_group_is_all_killed_is_as_pygames():
+    """pygame makes a sprite's mask at its first pair: one after the second group is all
+    killed never has one made (and has none to make). The big groups' loop makes the first
+    group's masks first: where one cannot be made, the plain loop answers, as pygame."""
+    results = []
+    for function in (pygame.sprite.groupcollide, collide.groupcollide):
+        side_a = [Thing(0, 0, 200, 200)] + [Thing(300 + i, 300, 4, 4) for i in range(600)]
+        pictureless = pygame.sprite.Sprite()
+        pictureless.rect = pygame.Rect(0, 0, 10, 10)
+        side_b = [Thing(i % 190, i // 190 * 10, 5, 5) for i in range(500)]
+        group_b = pygame.sprite.Group(side_b)
+        found = function([*side_a, pictureless], group_b, False, True,
+                         pygame.sprite.collide_mask)
+        results.append(([(_named([k], side_a, side_b), len(vs)) for k, vs in found.items()],
+                        len(group_b)))
+    assert results[0] == results[1] == ([([("a", 0)], 500)], 0)  # (the first met all)
 
 
 class Unhashable:

@@ -8,11 +8,10 @@ give the same results, in the same order, with sprites killed when and as pygame
 `groupcollide` with no predicate, `collide_rect` or `collide_mask`, on groups of integer
 `Rect`s, reads each group's boxes once and tests each sprite of the first group against all
 of the second in one C call (`Rect.collidelistall`) instead of one Python call a pair, and
-on big groups where the second loses no sprite on the way (no `dokillb`) only against the
-boxes near its own, found by sorting the boxes (numpy: `_near`); any
-other case runs the plain loop pygame runs, with `collide_rect` as a rect test and a mask
-made from an image once, not once a pair (see `_image_mask` for what that asks of you). The
-module keeps nothing else between calls. Swept tests and rules tables are the
+on big groups only against the boxes near its own, found by sorting the boxes (numpy:
+`_near`); any other case runs the plain loop pygame runs, with `collide_rect` as a rect
+test and a mask made from an image once, not once a pair (see `_image_mask` for what that
+asks of you). The module keeps nothing else between calls. Swept tests and rules tables are the
 `SpriteCollider`'s (`invaders.engine.sprites`); nothing here sweeps.
 """
 
@@ -31,7 +30,9 @@ FAST_FROM = 16  # pairs (a sprite of the first group times the second) from whic
 # Pairs from which sorting the boxes first pays: at 500 sprites a side a call took 1.18
 # against 1.41 ms, at 1,000 3.0 against 5.6, at 2,000 8.6 against 22.3 and at 4,000 20
 # against 88 (collide_rect on section 5's fields of the bench, 5 rounds in turn); at 300 a
-# side 0.60 against 0.54. Invariant: `_near` finds every box `colliderect` meets, which
+# side 0.60 against 0.54. With dokillb, where the plain loop rebuilt the second group's lists
+# after each kill: 2.6 against 7.4 ms at 500, 9.2 against 105 at 2,000 (a script, 6 rounds
+# in turn). Invariant: `_near` finds every box `colliderect` meets, which
 # tests/test_collide.py holds to pygame's answers on big groups of every kind of box.
 NEAR_FROM = 250_000
 
@@ -267,13 +268,15 @@ def _groupcollide_fast(sides: tuple[list[Any], list[Any]], groupb: Iterable[Any]
                    for s, m in zip(side_b, mask_b, strict=True)]
     else:
         boxes_b = [s.rect for s in side_b]
-    if not dokillb and side_b and len(side_a) * len(side_b) >= NEAR_FROM:
-        found = _collide_near(side_a, side_b, boxes_b, mask_b if masks else None)
-        if dokilla:
-            for sprite in found:
-                sprite.kill()
-        return found
     forgets = dokillb and isinstance(groupb, AbstractGroup)  # a killed sprite leaves it
+    if side_b and len(side_a) * len(side_b) >= NEAR_FROM:
+        near = _collide_near(side_a, side_b, boxes_b, mask_b if masks else None, dokillb,
+                             forgets)
+        if near is not None:
+            if dokilla:
+                for sprite in near:
+                    sprite.kill()
+            return near
     for sprite in side_a:
         if not side_b:  # all killed: pygame meets no more pairs, so makes no more masks
             break
@@ -305,28 +308,42 @@ def _groupcollide_fast(sides: tuple[list[Any], list[Any]], groupb: Iterable[Any]
 
 
 def _collide_near(side_a: list[Any], side_b: list[Any], boxes_b: list[pygame.Rect],
-                  mask_b: list[pygame.mask.Mask] | None) -> dict[Any, list[Any]]:
-    """The fast loop for big groups where nothing is killed on the way: each sprite of the
-    first group tested, in C, only against the boxes of the second that `_near` finds by
-    its own (in the second group's order, as `collidelistall` gives them)."""
+                  mask_b: list[pygame.mask.Mask] | None, dokillb: bool, forgets: bool
+                  ) -> dict[Any, list[Any]] | None:
+    """The fast loop for big groups: each sprite of the first group tested, in C, only
+    against the boxes of the second that `_near` finds by its own (in the second group's
+    order, as `collidelistall` gives them); with `dokillb` its hits killed, and where the
+    second group `forgets` them (a group, not a list), never met again. None, for the
+    plain loop to run, where a first sprite's mask cannot be made: the masks are made
+    first here, where pygame makes each at its first pair, and fails there (or never, once
+    `dokillb` has emptied the second group)."""
     if mask_b is None:
         masks_a = None
         boxes_a = [s.rect for s in side_a]
     else:
-        masks_a = [_mask(s) for s in side_a]
+        try:
+            masks_a = [_mask(s) for s in side_a]
+        except Exception:  # (pygame's error, or none, is the plain loop's to give)
+            return None
         boxes_a = [pygame.Rect(s.rect.topleft, m.get_size())
                    for s, m in zip(side_a, masks_a, strict=True)]
     found: dict[Any, list[Any]] = {}
+    killed = [False] * len(side_b)
     for index, near in enumerate(_near(boxes_a, boxes_b)):
         box = boxes_a[index]
-        hits = [i for i in near if box.colliderect(boxes_b[i])]
+        hits = [i for i in near if box.colliderect(boxes_b[i]) and not killed[i]]
         if hits and masks_a is not None and mask_b is not None:
             x, y = side_a[index].rect.topleft
             mask = masks_a[index]
             hits = [i for i in hits
                     if mask.overlap(mask_b[i], (side_b[i].rect[0] - x, side_b[i].rect[1] - y))]
-        if hits:
-            found[side_a[index]] = [side_b[i] for i in hits]
+        if not hits:
+            continue
+        found[side_a[index]] = [side_b[i] for i in hits]
+        if dokillb:
+            for i in hits:
+                side_b[i].kill()
+                killed[i] = forgets
     return found
 
 
