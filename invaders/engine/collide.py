@@ -257,30 +257,38 @@ def _fast_sides(groupa: Iterable[Any], groupb: Iterable[Any]
 
 def _groupcollide_fast(sides: tuple[list[Any], list[Any]], groupb: Iterable[Any],
                        dokilla: bool, dokillb: bool, masks: bool) -> dict[Any, list[Any]]:
-    """The loop of `groupcollide` with each sprite of the first group tested against all of
-    the second in one C call, on the boxes that can meet: the rects, or for masks the
-    masks' own boxes at the rects' corners, then the masks themselves."""
+    """The loop of `groupcollide` with its tests in C, on the boxes that can meet: the
+    rects, or for masks the masks' own boxes at the rects' corners, then the masks
+    themselves; on big groups only the boxes near each other (`_collide_near`), else each
+    sprite of the first group against all of the second (`_collide_each`)."""
     side_a, side_b = sides
-    found: dict[Any, list[Any]] = {}
-    if masks:  # (the first sprite meets all of the second group: pygame makes all theirs)
-        mask_b = [_mask(s) for s in side_b]
-        boxes_b = [pygame.Rect(s.rect.topleft, m.get_size())
-                   for s, m in zip(side_b, mask_b, strict=True)]
-    else:
-        boxes_b = [s.rect for s in side_b]
+    # (the first sprite meets all of the second group: pygame makes all their masks)
+    mask_b = [_mask(s) for s in side_b] if masks else None
+    boxes_b = [s.rect for s in side_b] if mask_b is None else [
+        pygame.Rect(s.rect.topleft, m.get_size()) for s, m in zip(side_b, mask_b, strict=True)]
     forgets = dokillb and isinstance(groupb, AbstractGroup)  # a killed sprite leaves it
+    found = None
     if side_b and len(side_a) * len(side_b) >= NEAR_FROM:
-        near = _collide_near(side_a, side_b, boxes_b, mask_b if masks else None, dokillb,
-                             forgets)
-        if near is not None:
-            if dokilla:
-                for sprite in near:
-                    sprite.kill()
-            return near
+        found = _collide_near(side_a, side_b, boxes_b, mask_b, dokillb, forgets)
+    if found is None:
+        found = _collide_each(side_a, side_b, boxes_b, mask_b, dokillb, forgets)
+    if dokilla:
+        for sprite in found:
+            sprite.kill()
+    return found
+
+
+def _collide_each(side_a: list[Any], side_b: list[Any], boxes_b: list[pygame.Rect],
+                  mask_b: list[pygame.mask.Mask] | None, dokillb: bool, forgets: bool
+                  ) -> dict[Any, list[Any]]:
+    """Each sprite of the first group tested against all of the second in one C call
+    (`collidelistall`); with `dokillb` its hits killed, and where the second group
+    `forgets` them (a group, not a list), taken out of the lists the next sprites meet."""
+    found: dict[Any, list[Any]] = {}
     for sprite in side_a:
         if not side_b:  # all killed: pygame meets no more pairs, so makes no more masks
             break
-        if masks:
+        if mask_b is not None:
             mask = _mask(sprite)
             box = pygame.Rect(sprite.rect.topleft, mask.get_size())
             x, y = sprite.rect.topleft
@@ -299,11 +307,8 @@ def _groupcollide_fast(sides: tuple[list[Any], list[Any]], groupb: Iterable[Any]
                 keep = [i for i, s in enumerate(side_b) if id(s) not in gone]
                 side_b = [side_b[i] for i in keep]
                 boxes_b = [boxes_b[i] for i in keep]
-                if masks:
+                if mask_b is not None:
                     mask_b = [mask_b[i] for i in keep]
-    if dokilla:
-        for sprite in found:
-            sprite.kill()
     return found
 
 
