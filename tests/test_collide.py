@@ -215,6 +215,28 @@ def test_big_groups_pair_their_boxes_by_a_sort_first_and_give_pygames_answers(
         assert len(results[0][2]) < 500 - 100
 
 
+@pytest.mark.parametrize("collided", PREDICATES[:2])
+@pytest.mark.parametrize(("n", "span"), [(30, 140), (600, 500)])
+@pytest.mark.parametrize("kill_b", [False, True])
+def test_float_rects_are_tested_in_c_and_give_pygames_answers(collided, n, span, kill_b,
+                                                              monkeypatch):
+    """FRects (pygame-ce's float rects) mixed with Rects on both sides: each sprite of the
+    first group tested against the second in one C call (the sorted boxes take whole
+    numbers alone), with pygame's answers, order and kills."""
+    each, calls = collide._collide_each, []
+    monkeypatch.setattr(collide, "_collide_each", lambda *a: calls.append(1) or each(*a))
+    results = []
+    for function in (pygame.sprite.groupcollide, collide.groupcollide):
+        side_a, side_b = _scene(5, n, n - n // 6, floats=True, span=span)
+        group_a, group_b, b = _groups(side_a, side_b, "group")
+        found = function(group_a, b, False, kill_b, collided)
+        results.append(([(_named([k], side_a, side_b), _named(vs, side_a, side_b))
+                         for k, vs in found.items()], _named(group_b, side_a, side_b)))
+    floats = sum(isinstance(s.rect, pygame.FRect) for s in side_a + side_b)
+    assert results[0] == results[1] and calls == [1]
+    assert len(results[0][0]) > n // 6 and 0 < floats < len(side_a + side_b)
+
+
 def test_a_sprite_with_no_picture_met_once_the_second_group_is_all_killed_is_as_pygames():
     """pygame makes a sprite's mask at its first pair: one after the second group is all
     killed never has one made (and has none to make). The big groups' loop makes the first

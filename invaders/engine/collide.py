@@ -6,13 +6,14 @@ Import these instead of `pygame.sprite`'s: `groupcollide`, `spritecollide`,
 give the same results, in the same order, with sprites killed when and as pygame kills them
 (pygame's own predicate objects are accepted as `collided` too). What differs is the cost:
 `groupcollide` with no predicate, `collide_rect` or `collide_mask`, on groups of integer
-`Rect`s, reads each group's boxes once and tests each sprite of the first group against all
-of the second in one C call (`Rect.collidelistall`) instead of one Python call a pair, and
-on big groups only against the boxes near its own, found by sorting the boxes (numpy:
-`_near`); any other case runs the plain loop pygame runs, with `collide_rect` as a rect
-test and a mask made from an image once, not once a pair (see `_image_mask` for what that
-asks of you). The module keeps nothing else between calls. Swept tests and rules tables are the
-`SpriteCollider`'s (`invaders.engine.sprites`); nothing here sweeps.
+`Rect`s (or, but for `collide_mask`, float `FRect`s too), reads each group's boxes once and
+tests each sprite of the first group against all of the second in one C call
+(`collidelistall`) instead of one Python call a pair, and on big groups of `Rect`s only
+against the boxes near its own, found by sorting the boxes (numpy: `_near`); any other case
+runs the plain loop pygame runs, with `collide_rect` as a rect test and a mask made from an
+image once, not once a pair (see `_image_mask` for what that asks of you). The module keeps
+nothing else between calls. Swept tests and rules tables are the `SpriteCollider`'s
+(`invaders.engine.sprites`); nothing here sweeps.
 """
 
 from __future__ import annotations
@@ -197,10 +198,10 @@ def groupcollide(groupa: Iterable[Any], groupb: Iterable[Any], dokilla: bool, do
         except AttributeError:
             pairs = _pairs(groupa, groupb)
         if pairs >= FAST_FROM:
-            sides = _fast_sides(groupa, groupb)
+            masks = collided in MASK_TESTS
+            sides = _fast_sides(groupa, groupb, masks)
             if sides is not None:
-                return _groupcollide_fast(sides, groupb, dokilla, dokillb,
-                                          collided in MASK_TESTS)
+                return _groupcollide_fast(sides, groupb, dokilla, dokillb, masks)
         if collided is PYGAMES_MASK_TEST:
             collided = collide_mask  # the same answers, a mask made once per image
     # pygame's own loop, written in here (small groups, where it runs, feel every Python
@@ -239,36 +240,38 @@ def _pairs(groupa: Any, groupb: Any) -> int:
         return 0
 
 
-def _fast_sides(groupa: Iterable[Any], groupb: Iterable[Any]
-                ) -> tuple[list[Any], list[Any]] | None:
-    """Both groups' sprites, when the C tests give pygame's answer (for a known predicate):
-    groups that are looked at again unchanged (a Group, whose kills the fast loop follows,
-    or a list or tuple) of integer Rects."""
+def _fast_sides(groupa: Iterable[Any], groupb: Iterable[Any], masks: bool
+                ) -> tuple[list[Any], list[Any], bool] | None:
+    """Both groups' sprites, when the C tests give pygame's answer (for a known predicate),
+    and whether every rect is an integer Rect (what the sorted boxes and the masks' boxes
+    take): groups that are looked at again unchanged (a Group, whose kills the fast loop
+    follows, or a list or tuple) of Rects or, for the rect tests, FRects too, as they come
+    (`collidelistall` meets each box as `colliderect` does, Rect or FRect on either side)."""
     kinds = (AbstractGroup, list, tuple)
     if not isinstance(groupa, kinds) or not isinstance(groupb, kinds):
         return None
     side_a, side_b = list(groupa), list(groupb)
-    rect = pygame.Rect
-    if not all(type(s.rect) is rect for s in side_a) or not all(
-            type(s.rect) is rect for s in side_b):
+    kinds_of_rect = {type(s.rect) for s in side_a} | {type(s.rect) for s in side_b}
+    whole = kinds_of_rect <= {pygame.Rect}
+    if not whole and (masks or not kinds_of_rect <= {pygame.Rect, pygame.FRect}):
         return None
-    return side_a, side_b
+    return side_a, side_b, whole
 
 
-def _groupcollide_fast(sides: tuple[list[Any], list[Any]], groupb: Iterable[Any],
+def _groupcollide_fast(sides: tuple[list[Any], list[Any], bool], groupb: Iterable[Any],
                        dokilla: bool, dokillb: bool, masks: bool) -> dict[Any, list[Any]]:
     """The loop of `groupcollide` with its tests in C, on the boxes that can meet: the
     rects, or for masks the masks' own boxes at the rects' corners, then the masks
     themselves; on big groups only the boxes near each other (`_collide_near`), else each
     sprite of the first group against all of the second (`_collide_each`)."""
-    side_a, side_b = sides
+    side_a, side_b, whole = sides
     # (the first sprite meets all of the second group: pygame makes all their masks)
     mask_b = [_mask(s) for s in side_b] if masks else None
     boxes_b = [s.rect for s in side_b] if mask_b is None else [
         pygame.Rect(s.rect.topleft, m.get_size()) for s, m in zip(side_b, mask_b, strict=True)]
     forgets = dokillb and isinstance(groupb, AbstractGroup)  # a killed sprite leaves it
     found = None
-    if side_b and len(side_a) * len(side_b) >= NEAR_FROM:
+    if whole and side_b and len(side_a) * len(side_b) >= NEAR_FROM:
         found = _collide_near(side_a, side_b, boxes_b, mask_b, dokillb, forgets)
     if found is None:
         found = _collide_each(side_a, side_b, boxes_b, mask_b, dokillb, forgets)
