@@ -108,6 +108,12 @@ def _named(things, side_a, side_b):
     return [index[id(s)] for s in things]
 
 
+def _radii(sprites):
+    """Each sprite's `radius`, or None: the circle tests keep one on a sprite at its first
+    pair (pygame's do)."""
+    return [getattr(s, "radius", None) for s in sprites]
+
+
 def _calls(collided, side_a, side_b):
     """The pairs a Recorded predicate was called with, named (none for other predicates)."""
     by_id = {id(s): s for s in side_a + side_b}
@@ -133,7 +139,7 @@ def test_groupcollide_gives_pygames_result_order_and_kills(seed, n_a, n_b, which
         results.append(([(_named([k], side_a, side_b), _named(vs, side_a, side_b))
                          for k, vs in found.items()],
                         _named(group_a, side_a, side_b), _named(group_b, side_a, side_b),
-                        _calls(collided, side_a, side_b)))
+                        _calls(collided, side_a, side_b), _radii(side_a + side_b)))
     assert results[0] == results[1]
 
 
@@ -235,6 +241,64 @@ def test_float_rects_are_tested_in_c_and_give_pygames_answers(collided, n, span,
     floats = sum(isinstance(s.rect, pygame.FRect) for s in side_a + side_b)
     assert results[0] == results[1] and calls == [1]
     assert len(results[0][0]) > n // 6 and 0 < floats < len(side_a + side_b)
+
+
+CIRCLES = [pygame.sprite.collide_circle, collide.collide_circle,
+           pygame.sprite.collide_circle_ratio(0.6), collide.collide_circle_ratio(1.7)]
+
+
+@pytest.mark.parametrize("collided", CIRCLES)
+@pytest.mark.parametrize(("n", "span", "holder"), [(12, 60, "group"), (40, 140, "list"),
+                                                   (300, 500, "layered")])
+@pytest.mark.parametrize("kill_b", [False, True])
+def test_circle_tests_meet_in_c_first_and_give_pygames_answers(collided, n, span, holder,
+                                                               kill_b, monkeypatch):
+    """Circles round Rects and FRects, some sprites with a radius of their own: each sprite
+    of the first group tested in C against boxes round the second's circles, then the
+    circles; pygame's answers, order and kills, and the radii it keeps on the sprites."""
+    circles, calls = collide._collide_circles, []
+    monkeypatch.setattr(collide, "_collide_circles", lambda *a: calls.append(1) or circles(*a))
+    results = []
+    for function in (pygame.sprite.groupcollide, collide.groupcollide):
+        side_a, side_b = _scene(8, n, n - n // 5, floats=True, span=span)
+        for sprite in (side_a + side_b)[::7]:
+            sprite.radius = (len(side_a) + sprite.rect.x) % 9 * 1.5
+        group_a, group_b, b = _groups(side_a, side_b, holder)
+        found = function(group_a, b, False, kill_b, collided)
+        results.append(([(_named([k], side_a, side_b), _named(vs, side_a, side_b))
+                         for k, vs in found.items()],
+                        _named(group_b, side_a, side_b), _radii(side_a + side_b)))
+    assert results[0] == results[1] and calls == [1]
+    assert len(results[0][0]) >= n // 10 >= 1  # (some of the first group met circles)
+
+
+def test_circles_that_no_box_holds_are_met_as_pygame_meets_them():
+    """A radius past any box (infinite) in the second group leaves the answer to the plain
+    loop; in the first, its sprite is tested against every circle of the second."""
+    for infinite in ("a", "b"):
+        results = []
+        for function in (pygame.sprite.groupcollide, collide.groupcollide):
+            side_a, side_b = _scene(4, 20, 20)
+            (side_a if infinite == "a" else side_b)[3].radius = float("inf")
+            found = function(side_a, pygame.sprite.Group(side_b), False, True,
+                             pygame.sprite.collide_circle)
+            results.append(([(_named([k], side_a, side_b), _named(vs, side_a, side_b))
+                             for k, vs in found.items()], _radii(side_a + side_b)))
+        assert results[0] == results[1] and results[0][0]
+
+
+def test_once_the_second_group_is_all_killed_no_radius_is_kept_on_the_first():
+    """pygame keeps a sprite's radius at its first pair: once `dokillb` has emptied the
+    second group, the sprites after have none."""
+    results = []
+    for function in (pygame.sprite.groupcollide, collide.groupcollide):
+        side_a = [Thing(0, 0, 300, 300)] + [Thing(400 + i, 400, 4, 4) for i in range(30)]
+        side_b = [Thing(i % 19 * 10, i // 19 * 10, 5, 5) for i in range(40)]
+        found = function(side_a, pygame.sprite.Group(side_b), False, True,
+                         pygame.sprite.collide_circle)
+        results.append(([len(vs) for vs in found.values()], _radii(side_a + side_b)))
+    assert results[0] == results[1] and results[0][0] == [40]
+    assert results[0][1][1] is None and results[0][1][0] is not None
 
 
 def test_a_sprite_with_no_picture_met_once_the_second_group_is_all_killed_is_as_pygames():
