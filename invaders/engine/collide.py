@@ -260,7 +260,7 @@ def _fast_sides(groupa: Iterable[Any], groupb: Iterable[Any], masks: bool
     """Both groups' sprites, when the C tests give pygame's answer (for a known predicate),
     and whether every rect is an integer Rect (what the sorted boxes and the masks' boxes
     take): groups that are looked at again unchanged (a Group, whose kills the fast loop
-    follows, or a list or tuple) of Rects or, for the rect tests, FRects too, as they come
+    follows, or a list or tuple) of Rects or, but for masks, FRects too, as they come
     (`collidelistall` meets each box as `colliderect` does, Rect or FRect on either side)."""
     kinds = (AbstractGroup, list, tuple)
     if not isinstance(groupa, kinds) or not isinstance(groupb, kinds):
@@ -276,20 +276,27 @@ def _fast_sides(groupa: Iterable[Any], groupb: Iterable[Any], masks: bool
 def _groupcollide_fast(sides: tuple[list[Any], list[Any], bool], groupb: Iterable[Any],
                        dokilla: bool, dokillb: bool, masks: bool, circles: float | None = None
                        ) -> dict[Any, list[Any]] | None:
-    """The loop of `groupcollide` with its tests in C, on the boxes that can meet: the
-    rects, or for masks the masks' own boxes at the rects' corners, then the masks
-    themselves, or for circle tests (their radii scaled by `circles`) boxes round the
-    circles, then the circles (`_collide_circles`); on big groups of Rects only the boxes
-    near each other (`_collide_near`), else each sprite of the first group against all of
-    the second (`_collide_each`). None where the plain loop is to answer."""
+    """The loop of `groupcollide` with its tests in C: for circle tests (their radii scaled
+    by `circles`) `_collide_circles`, else `_collide_boxes`. None where the plain loop is
+    to answer."""
     side_a, side_b, whole = sides
     forgets = dokillb and isinstance(groupb, AbstractGroup)  # a killed sprite leaves it
     if circles is not None:
         found = _collide_circles(side_a, side_b, circles, dokillb, forgets)
-        if found is not None and dokilla:
-            for sprite in found:
-                sprite.kill()
-        return found
+    else:
+        found = _collide_boxes(side_a, side_b, whole, masks, dokillb, forgets)
+    if found is not None and dokilla:
+        for sprite in found:
+            sprite.kill()
+    return found
+
+
+def _collide_boxes(side_a: list[Any], side_b: list[Any], whole: bool, masks: bool,
+                   dokillb: bool, forgets: bool) -> dict[Any, list[Any]]:
+    """The boxes that can meet: the rects, or for masks the masks' own boxes at the rects'
+    corners, then the masks themselves; on big groups of Rects (`whole`) only the boxes
+    near each other (`_collide_near`), else each sprite of the first group against all of
+    the second (`_collide_each`)."""
     # (the first sprite meets all of the second group: pygame makes all their masks)
     mask_b = [_mask(s) for s in side_b] if masks else None
     boxes_b = [s.rect for s in side_b] if mask_b is None else [
@@ -299,9 +306,6 @@ def _groupcollide_fast(sides: tuple[list[Any], list[Any], bool], groupb: Iterabl
         found = _collide_near(side_a, side_b, boxes_b, mask_b, dokillb, forgets)
     if found is None:
         found = _collide_each(side_a, side_b, boxes_b, mask_b, dokillb, forgets)
-    if dokilla:
-        for sprite in found:
-            sprite.kill()
     return found
 
 
