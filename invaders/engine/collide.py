@@ -314,32 +314,31 @@ def _collide_each(side_a: list[Any], side_b: list[Any], boxes_b: list[pygame.Rec
                   ) -> dict[Any, list[Any]]:
     """Each sprite of the first group tested against all of the second in one C call
     (`collidelistall`); with `dokillb` its hits killed, and where the second group
-    `forgets` them (a group, not a list), taken out of the lists the next sprites meet."""
+    `forgets` them (a group, not a list), never met again."""
     found: dict[Any, list[Any]] = {}
+    killed = [False] * len(side_b)
+    left = len(side_b)
     for sprite in side_a:
-        if not side_b:  # all killed: pygame meets no more pairs, so makes no more masks
+        if not left:  # all killed: pygame meets no more pairs, so makes no more masks
             break
         if mask_b is not None:
             mask = _mask(sprite)
             box = pygame.Rect(sprite.rect.topleft, mask.get_size())
             x, y = sprite.rect.topleft
-            hits = [side_b[i] for i in box.collidelistall(boxes_b)
+            near = [i for i in box.collidelistall(boxes_b)
                     if mask.overlap(mask_b[i], (side_b[i].rect[0] - x, side_b[i].rect[1] - y))]
         else:
-            hits = [side_b[i] for i in sprite.rect.collidelistall(boxes_b)]
+            near = sprite.rect.collidelistall(boxes_b)
+        hits = [i for i in near if not killed[i]] if forgets else near
         if not hits:
             continue
-        found[sprite] = hits
+        found[sprite] = [side_b[i] for i in hits]
         if dokillb:
-            for other in hits:
-                other.kill()
-            if forgets:
-                gone = {id(s) for s in hits}
-                keep = [i for i, s in enumerate(side_b) if id(s) not in gone]
-                side_b = [side_b[i] for i in keep]
-                boxes_b = [boxes_b[i] for i in keep]
-                if mask_b is not None:
-                    mask_b = [mask_b[i] for i in keep]
+            for i in hits:
+                side_b[i].kill()
+                if forgets:
+                    killed[i] = True
+                    left -= 1
     return found
 
 
