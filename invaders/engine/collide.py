@@ -280,46 +280,69 @@ def _groupcollide_fast(sides: tuple[list[Any], list[Any], bool], groupb: Iterabl
     by `circles`) `_collide_circles`, else `_collide_boxes`. None where the plain loop is
     to answer."""
     side_a, side_b, whole = sides
-    forgets = dokillb and isinstance(groupb, AbstractGroup)  # a killed sprite leaves it
+    # (a killed sprite leaves a group, not a list)
+    second = _Second(side_b, dokillb, dokillb and isinstance(groupb, AbstractGroup))
     if circles is not None:
-        found = _collide_circles(side_a, side_b, circles, dokillb, forgets)
+        found = _collide_circles(side_a, second, circles)
     else:
-        found = _collide_boxes(side_a, side_b, whole, masks, dokillb, forgets)
+        found = _collide_boxes(side_a, second, whole, masks)
     if found is not None and dokilla:
         for sprite in found:
             sprite.kill()
     return found
 
 
-def _collide_boxes(side_a: list[Any], side_b: list[Any], whole: bool, masks: bool,
-                   dokillb: bool, forgets: bool) -> dict[Any, list[Any]]:
+class _Second:
+    """The second group's sprites as the fast loops meet them: with `dokillb` a sprite met
+    is killed, and where the group `forgets` it (a group, not a list) marked, never met
+    again; `left` counts those not yet forgotten."""
+
+    def __init__(self, sprites: list[Any], dokillb: bool, forgets: bool) -> None:
+        self.sprites, self.dokillb, self.forgets = sprites, dokillb, forgets
+        self.killed = [False] * len(sprites)
+        self.left = len(sprites)
+
+    def met(self, hits: list[int]) -> list[Any]:
+        """The sprites at `hits` (ascending), killed in that order with `dokillb`."""
+        sprites = self.sprites
+        met = [sprites[i] for i in hits]
+        if self.dokillb:
+            for sprite in met:
+                sprite.kill()
+            if self.forgets:
+                for i in hits:
+                    self.killed[i] = True
+                self.left -= len(hits)
+        return met
+
+
+def _collide_boxes(side_a: list[Any], second: _Second, whole: bool, masks: bool
+                   ) -> dict[Any, list[Any]]:
     """The boxes that can meet: the rects, or for masks the masks' own boxes at the rects'
     corners, then the masks themselves; on big groups of Rects (`whole`) only the boxes
     near each other (`_collide_near`), else each sprite of the first group against all of
     the second (`_collide_each`)."""
     # (the first sprite meets all of the second group: pygame makes all their masks)
+    side_b = second.sprites
     mask_b = [_mask(s) for s in side_b] if masks else None
     boxes_b = [s.rect for s in side_b] if mask_b is None else [
         pygame.Rect(s.rect.topleft, m.get_size()) for s, m in zip(side_b, mask_b, strict=True)]
     found = None
     if whole and side_b and len(side_a) * len(side_b) >= NEAR_FROM:
-        found = _collide_near(side_a, side_b, boxes_b, mask_b, dokillb, forgets)
+        found = _collide_near(side_a, second, boxes_b, mask_b)
     if found is None:
-        found = _collide_each(side_a, side_b, boxes_b, mask_b, dokillb, forgets)
+        found = _collide_each(side_a, second, boxes_b, mask_b)
     return found
 
 
-def _collide_each(side_a: list[Any], side_b: list[Any], boxes_b: list[pygame.Rect],
-                  mask_b: list[pygame.mask.Mask] | None, dokillb: bool, forgets: bool
-                  ) -> dict[Any, list[Any]]:
+def _collide_each(side_a: list[Any], second: _Second, boxes_b: list[pygame.Rect],
+                  mask_b: list[pygame.mask.Mask] | None) -> dict[Any, list[Any]]:
     """Each sprite of the first group tested against all of the second in one C call
-    (`collidelistall`); with `dokillb` its hits killed, and where the second group
-    `forgets` them (a group, not a list), never met again."""
+    (`collidelistall`), its hits met as `_Second` meets them."""
     found: dict[Any, list[Any]] = {}
-    killed = [False] * len(side_b)
-    left = len(side_b)
+    side_b, killed = second.sprites, second.killed
     for sprite in side_a:
-        if not left:  # all killed: pygame meets no more pairs, so makes no more masks
+        if not second.left:  # all killed: pygame meets no more pairs, so makes no more masks
             break
         if mask_b is not None:
             mask = _mask(sprite)
@@ -329,26 +352,17 @@ def _collide_each(side_a: list[Any], side_b: list[Any], boxes_b: list[pygame.Rec
                     if mask.overlap(mask_b[i], (side_b[i].rect[0] - x, side_b[i].rect[1] - y))]
         else:
             near = sprite.rect.collidelistall(boxes_b)
-        hits = [i for i in near if not killed[i]] if forgets else near
-        if not hits:
-            continue
-        found[sprite] = [side_b[i] for i in hits]
-        if dokillb:
-            for i in hits:
-                side_b[i].kill()
-                if forgets:
-                    killed[i] = True
-                    left -= 1
+        hits = [i for i in near if not killed[i]] if second.forgets else near
+        if hits:
+            found[sprite] = second.met(hits)
     return found
 
 
-def _collide_near(side_a: list[Any], side_b: list[Any], boxes_b: list[pygame.Rect],
-                  mask_b: list[pygame.mask.Mask] | None, dokillb: bool, forgets: bool
-                  ) -> dict[Any, list[Any]] | None:
+def _collide_near(side_a: list[Any], second: _Second, boxes_b: list[pygame.Rect],
+                  mask_b: list[pygame.mask.Mask] | None) -> dict[Any, list[Any]] | None:
     """The fast loop for big groups: each sprite of the first group tested, in C, only
     against the boxes of the second that `_near` finds by its own (in the second group's
-    order, as `collidelistall` gives them); with `dokillb` its hits killed, and where the
-    second group `forgets` them (a group, not a list), never met again. None, for the
+    order, as `collidelistall` gives them), its hits met as `_Second` meets them. None, for the
     plain loop to run, where a first sprite's mask cannot be made: the masks are made
     first here, where pygame makes each at its first pair, and fails there (or never, once
     `dokillb` has emptied the second group)."""
@@ -363,7 +377,7 @@ def _collide_near(side_a: list[Any], side_b: list[Any], boxes_b: list[pygame.Rec
         boxes_a = [pygame.Rect(s.rect.topleft, m.get_size())
                    for s, m in zip(side_a, masks_a, strict=True)]
     found: dict[Any, list[Any]] = {}
-    killed = [False] * len(side_b)
+    side_b, killed = second.sprites, second.killed
     for index, near in enumerate(_near(boxes_a, boxes_b)):
         box = boxes_a[index]
         hits = [i for i in near if box.colliderect(boxes_b[i]) and not killed[i]]
@@ -372,13 +386,8 @@ def _collide_near(side_a: list[Any], side_b: list[Any], boxes_b: list[pygame.Rec
             mask = masks_a[index]
             hits = [i for i in hits
                     if mask.overlap(mask_b[i], (side_b[i].rect[0] - x, side_b[i].rect[1] - y))]
-        if not hits:
-            continue
-        found[side_a[index]] = [side_b[i] for i in hits]
-        if dokillb:
-            for i in hits:
-                side_b[i].kill()
-                killed[i] = forgets
+        if hits:
+            found[side_a[index]] = second.met(hits)
     return found
 
 
@@ -401,40 +410,31 @@ def _circle_box(sprite: Any, ratio: float) -> pygame.Rect:
     return pygame.Rect(left, top, math.ceil(x + reach) - left, math.ceil(y + reach) - top)
 
 
-def _collide_circles(side_a: list[Any], side_b: list[Any], ratio: float, dokillb: bool,
-                     forgets: bool) -> dict[Any, list[Any]] | None:
+def _collide_circles(side_a: list[Any], second: _Second, ratio: float
+                     ) -> dict[Any, list[Any]] | None:
     """Circle tests with each sprite of the first group tested, in C, against the boxes
     round the second's circles (`_circle_box`), then the circles on the boxes it meets
-    (in the second group's order); with `dokillb` its hits killed, and where the second
-    group `forgets` them (a group, not a list), never met again. Radii are kept on the
+    (in the second group's order), its hits met as `_Second` meets them. Radii are kept on the
     sprites as pygame keeps them at a sprite's first pair: the second group's all at the
     first sprite's turn, the first's each at its own. None, for the plain loop to run,
     where a box of the second group cannot be made (no rect, a radius that is no finite
     number, a place past a Rect's): pygame fails there, or never, as the plain loop."""
+    side_b, killed = second.sprites, second.killed
     try:
         boxes_b = [_circle_box(s, ratio) for s in side_b]
     except Exception:  # (pygame's error, or none, is the plain loop's to give)
         return None
     found: dict[Any, list[Any]] = {}
-    killed = [False] * len(side_b)
-    left = len(side_b)
     for sprite in side_a:
-        if not left:  # all killed: pygame meets no more pairs, so keeps no more radii
+        if not second.left:  # all killed: pygame meets no more pairs, so keeps no more radii
             break
         try:
             near: Iterable[int] = _circle_box(sprite, ratio).collidelistall(boxes_b)
         except Exception:  # (no box: the circles alone decide, or fail as pygame's do)
             near = range(len(side_b))
         hits = [i for i in near if not killed[i] and _circles(sprite, side_b[i], ratio)]
-        if not hits:
-            continue
-        found[sprite] = [side_b[i] for i in hits]
-        if dokillb:
-            for i in hits:
-                side_b[i].kill()
-                if forgets:
-                    killed[i] = True
-                    left -= 1
+        if hits:
+            found[sprite] = second.met(hits)
     return found
 
 
