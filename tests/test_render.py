@@ -11,7 +11,7 @@ from invaders.game import art
 from invaders.game.config import GameConfig, Speeds
 from invaders.game.events import Event
 from invaders.game.rack import pictures_apart
-from invaders.game.world import World
+from invaders.game.world import Phase, World
 from invaders.lab.autopilot import Autopilot
 from invaders.lab.picture import Picture
 from tests.helpers import active_world
@@ -288,13 +288,13 @@ def _canvas_picture(grey: bool = False) -> Picture:
 
 
 def test_the_kept_backdrop_and_rack_are_the_picture_drawn_afresh_in_every_frame_of_two_games():
-    # (The kept backdrop relies on its key: the texts, the ground only losing pixels while
-    # it is the same mask, a new field's shields being a new list and World.erosions
-    # counting every change to their pixels; the kept rack of a picture over an array on
-    # the rack's watch and its aliens never sharing a pixel. Each game has its pictures, a
-    # plain one and two over an array as the environment's, RGB and grey; one more draws
-    # both games in turn, each with a slot of its own, as a batch of games does, and two
-    # more in one slot.)
+    # (The kept backdrop relies on its key: what the texts are made of, the ground only
+    # losing pixels while it is the same mask, a new field's shields being a new list and
+    # World.erosions counting every change to their pixels; the kept rack of a picture
+    # over an array on the rack's watch and its aliens never sharing a pixel. Each game
+    # has its pictures, a plain one and two over an array as the environment's, RGB and
+    # grey; one more draws both games in turn, each with a slot of its own, as a batch of
+    # games does, and two more in one slot.)
     worlds = [(World(seed=5, players=2), Autopilot(5)), (World(seed=7), Autopilot(7))]
     own = [(Picture(), _canvas_picture(), _canvas_picture(grey=True)) for _ in worlds]
     shared, afresh = _canvas_picture(), _DrawnAfresh()
@@ -322,6 +322,22 @@ def test_the_kept_backdrop_and_rack_are_the_picture_drawn_afresh_in_every_frame_
         expected = pygame.image.tobytes(afresh.draw(other), "RGB")
         assert pygame.image.tobytes(kept.draw(other), "RGB") == expected
         assert pygame.image.tobytes(over_array.draw(other), "RGB") == expected
+    for change in (_high_score_beaten, _other_player_up):  # (seldom in the games above)
+        other = World(seed=6, players=2)
+        other.phase, other.phase_timer = Phase.SWITCH, 4  # the score up flashed off
+        kept.draw(other), over_array.draw(other)
+        change(other)
+        expected = pygame.image.tobytes(afresh.draw(other), "RGB")
+        assert pygame.image.tobytes(kept.draw(other), "RGB") == expected, change
+        assert pygame.image.tobytes(over_array.draw(other), "RGB") == expected, change
+
+
+def _high_score_beaten(world: World) -> None:
+    world.hi_score = 120  # (as a game's end sets it)
+
+
+def _other_player_up(world: World) -> None:
+    world.player = 2  # (player 2's score is the one flashing off now)
 
 
 def _aliens_share_a_pixel(world: World) -> bool:
