@@ -8,7 +8,9 @@ by a bitwise or. Every lit pixel is white, so the or is the aliens drawn over th
 picture; and while no two aliens share a lit pixel (`rack.pictures_apart`) taking one out
 leaves the others whole. The environment's grey picture took 30.7 against 36.6 us, its RGB
 one 43.1 against 48.3 (a script, the same frames in turn); a grey step 1.11 times as fast,
-an RGB one 1.05 (21 rounds in turn, fresh processes).
+an RGB one 1.05 (21 rounds in turn, fresh processes). The erasers and pictures go in one
+call (`fblits`), in the same order: compiled, an RGB step 1.05 times as fast as with a
+call each, a grey one 1.06 (12 rounds in turn, fresh processes).
 """
 
 from __future__ import annotations
@@ -60,25 +62,27 @@ class RackLayer:
 
     def draw(self, rack: Rack, canvas: np.ndarray) -> None:
         """The rack's aliens as they are, or'd into the picture's array."""
-        aliens, shown, blit = rack.aliens, self.shown, self.surface.blit
+        aliens, shown = rack.aliens, self.shown
         places = self.watch.changed(rack)
         if len(places) == len(aliens):
             self.array.fill(0)
             shown.clear()
             self.rows = (canvas.shape[0], 0)
         top, bottom = self.rows
+        blits: list[tuple[pygame.Surface, tuple[int, int]]] = []  # in order, in one call
         for index in places:
             was = shown.pop(index, None)
             if was is not None:
-                blit(*was)
+                blits.append(was)
             alien = aliens[index]
             if alien is not None and alien.alive:
                 corner = (alien.x, alien.y + FOOTPRINT_ABOVE)
                 sprite = self.sprites[alien.row][alien.frame]
-                blit(sprite, corner)
+                blits.append((sprite, corner))
                 shown[index] = (self.erasers[alien.row][alien.frame], corner)
                 top = min(top, corner[1])
                 bottom = max(bottom, corner[1] + sprite.get_height())
+        self.surface.fblits(blits)
         self.rows = (top, bottom)
         top, bottom = max(top, 0), min(bottom, canvas.shape[0])
         if top < bottom:
