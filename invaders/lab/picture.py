@@ -95,7 +95,11 @@ class Picture:
         return keyed
 
     def text(self, message: str, x: int, y: int) -> None:
-        """A line of text at (x, y), its glyphs drawn together once and kept. Kept by its
+        """A line of text at (x, y)."""
+        self.screen.blit(self.line(message), (x, y))
+
+    def line(self, message: str) -> pygame.Surface:
+        """A line of text's picture, its glyphs drawn together once and kept. Kept by its
         message alone: a glyph's picture never changes (the font is constant data), and a
         line is drawn over what is there, its unlit pixels keyed out, as glyph by glyph."""
         line = self._texts.get(message)
@@ -107,7 +111,7 @@ class Picture:
                 line.blit(self.sprite(font.glyph(ch)), (i * font.ADVANCE, 0))
             line.set_colorkey(BACKGROUND, pygame.RLEACCEL)
             self._texts[message] = line
-        self.screen.blit(line, (x, y))
+        return line
 
     def draw(self, world: World, alpha: float = 0.0, slot: int = 0) -> pygame.Surface:
         """The world in white on black (movers `alpha` of a tick on), not yet tinted: the
@@ -191,32 +195,37 @@ class Picture:
                             for alien in world.rack.live_aliens()])
 
     def _draw_play(self, world: World, alpha: float) -> None:
-        blit = self.screen.blit
+        """The explosions, the cannon, the shot, the bombs and the saucer, in that order,
+        in one call (`fblits`: compiled, a step 1.03 times as fast as with a call a sprite,
+        RGB or grey, 12 rounds in turn)."""
+        sprite = self.sprite
+        drawn: list[tuple[pygame.Surface, tuple[int, int]]] = []
         for explosion in world.explosions:
             picture = art.ALIEN_EXPLOSION if explosion.blast.value == "alien" else art.SHOT_BURST
-            blit(self.sprite(picture), (explosion.x, explosion.y))
+            drawn.append((sprite(picture), (explosion.x, explosion.y)))
         cannon = world.cannon
         if cannon.state is CannonState.ACTIVE:
-            blit(self.sprite(art.CANNON), (cannon.x, cannon.y))
+            drawn.append((sprite(art.CANNON), (cannon.x, cannon.y)))
         elif cannon.state is CannonState.EXPLODING and cannon.timer > 0:  # debris then clears
-            blit(self.sprite(death_picture(cannon.timer, world.config.timing)),
-                 (cannon.x, cannon.y))
+            drawn.append((sprite(death_picture(cannon.timer, world.config.timing)),
+                          (cannon.x, cannon.y)))
         if world.shot is not None:
-            blit(self.sprite(art.SHOT), _lerp(world.shot, world.tick, alpha))
+            drawn.append((sprite(art.SHOT), _lerp(world.shot, world.tick, alpha)))
         for slot in world.slots:
             if slot.bomb is not None:
                 picture = BOMB_PICTURES[slot.btype][slot.bomb.frame]
-                blit(self.sprite(picture), _lerp(slot.bomb, world.tick, alpha))
+                drawn.append((sprite(picture), _lerp(slot.bomb, world.tick, alpha)))
             elif slot.burst > 0:
-                blit(self.sprite(art.BOMB_BURST), (slot.burst_x, slot.burst_y))
+                drawn.append((sprite(art.BOMB_BURST), (slot.burst_x, slot.burst_y)))
         state = world.saucer
         lane = world.config.geometry.saucer_top
         if state.saucer is not None:
-            blit(self.sprite(art.SAUCER), _lerp(state.saucer, world.tick, alpha))
+            drawn.append((sprite(art.SAUCER), _lerp(state.saucer, world.tick, alpha)))
         elif state.hit_steps > world.config.timing.saucer_boom_until:
-            blit(self.sprite(art.SAUCER_EXPLOSION), (state.hit_x, lane))
+            drawn.append((sprite(art.SAUCER_EXPLOSION), (state.hit_x, lane)))
         elif state.hit_steps > 0:
-            self.text(str(state.hit_score), state.hit_x + 4, lane)
+            drawn.append((self.line(str(state.hit_score)), (state.hit_x + 4, lane)))
+        self.screen.fblits(drawn)
 
 
 def death_picture(timer: int, timing) -> art.Art:
