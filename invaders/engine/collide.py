@@ -38,8 +38,9 @@ Collided = Callable[[Any, Any], Any]
 RECTS_FAST_FROM = 49
 MASKS_FAST_FROM = 16
 CIRCLES_FAST_FROM = 16
-# Under the fewest, a call goes straight to the loop: at 1 sprite a side, where the loop
-# is pygame's own, choosing the C tests' threshold first made a call 1.05 times pygame's.
+# Under the fewest, a call goes straight to the loop without asking which test it has:
+# at 1 sprite a side, where the loop is pygame's own, asking first made a call 1.05 times
+# pygame's.
 FEWEST_FAST = min(RECTS_FAST_FROM, MASKS_FAST_FROM, CIRCLES_FAST_FROM)
 # Pairs from which sorting the boxes first pays: at 500 sprites a side a call took 1.18
 # against 1.41 ms, at 1,000 3.0 against 5.6, at 2,000 8.6 against 22.3 and at 4,000 20
@@ -201,29 +202,22 @@ def groupcollide(groupa: Iterable[Any], groupb: Iterable[Any], dokilla: bool, do
     """Each sprite of `groupa` that collides with any of `groupb`, with the list of those, as
     pygame gives them: `groupb` looked at again for each sprite of `groupa` (so one that
     `dokillb` killed is not met again), the sprites of `groupa` killed at the end."""
-    try:
-        known = collided in FAST_TESTS
-    except TypeError:  # a caller's predicate that does not hash: pygame calls it all the same
-        known = False
-    circles = None if known else _circle_ratio(collided)
-    if known or circles is not None:
-        try:  # a Group's size, read where it keeps its sprites (its len() is a Python call)
-            pairs = len(groupa.spritedict) * len(groupb.spritedict)  # type: ignore[attr-defined]
-        except AttributeError:
-            pairs = _pairs(groupa, groupb)
-        if pairs >= FEWEST_FAST:
-            fast = _groupcollide_if_fast(groupa, groupb, dokilla, dokillb, pairs,
-                                         known and collided in MASK_TESTS, circles)
-            if fast is not None:
-                return fast
-        if collided is PYGAMES_MASK_TEST:
-            collided = collide_mask  # the same answers, a mask made once per image
+    try:  # a Group's size, read where it keeps its sprites (its len() is a Python call)
+        pairs = len(groupa.spritedict) * len(groupb.spritedict)  # type: ignore[attr-defined]
+    except AttributeError:
+        pairs = _pairs(groupa, groupb)
+    if pairs >= FEWEST_FAST:
+        fast = _groupcollide_if_fast(groupa, groupb, dokilla, dokillb, collided, pairs)
+        if fast is not None:
+            return fast
+    if collided is PYGAMES_MASK_TEST:
+        collided = collide_mask  # the same answers, a mask made once per image
     # pygame's own loop, written in here (small groups, where it runs, feel every Python
     # call): spritecollide inline, `collide_rect` as the rect test it is, and a plain
     # Group's sprites read as its `sprites()` gives them, from its `spritedict` in order (a
     # subclass may order them otherwise, LayeredUpdates by layer).
     found: dict[Any, list[Any]] = {}
-    rects = known and collided in RECT_TESTS
+    rects = _rect_test(collided)
     plain = type(groupb) is GROUP
     for sprite in list(groupa.spritedict) if type(groupa) is GROUP else groupa:  # type: ignore
         others = list(groupb.spritedict) if plain else groupb  # type: ignore[attr-defined]
@@ -391,10 +385,19 @@ def _collide_near(side_a: list[Any], second: _Second, boxes_b: list[pygame.Rect]
 
 
 def _groupcollide_if_fast(groupa: Any, groupb: Any, dokilla: bool, dokillb: bool,
-                          pairs: int, masks: bool, circles: float | None
+                          collided: Collided | None, pairs: int
                           ) -> dict[Any, list[Any]] | None:
-    """groupcollide through the C tests, where its test pays from this many pairs and the
-    groups can take them; None: pygame's loop, written in groupcollide, answers it."""
+    """groupcollide through the C tests, where its test has them, they pay from this many
+    pairs and the groups can take them; None: pygame's loop, written in groupcollide,
+    answers it."""
+    try:
+        known = collided in FAST_TESTS
+    except TypeError:  # a caller's predicate that does not hash: pygame calls it all the same
+        known = False
+    circles = None if known else _circle_ratio(collided)
+    if not known and circles is None:
+        return None
+    masks = known and collided in MASK_TESTS
     fast_from = (MASKS_FAST_FROM if masks else RECTS_FAST_FROM if circles is None
                  else CIRCLES_FAST_FROM)
     if pairs < fast_from:
