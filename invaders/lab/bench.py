@@ -24,7 +24,7 @@ missed it. The exit code is 1 when a median misses a goal.
    contender, about as long as a busy machine's slow spells, so the contenders take turns
    frame by frame (the order alternating), and a slow spell falls on all of them alike.
 5. pygame's `groupcollide` against ours (`invaders.engine.collide`), group sizes from 1
-   to 1,000 a side, with no predicate, `collide_rect` and `collide_mask`.
+   to 1,000 a side, with no predicate, `collide_rect`, `collide_mask` and `collide_circle`.
 """
 
 from __future__ import annotations
