@@ -11,9 +11,10 @@ from enum import Enum
 import pytest
 
 from invaders.engine.adaptive import BROADPHASES, DEFAULT_BROADPHASE
-from invaders.engine.body import _slots
+from invaders.engine.body import Body, fields_of
 from invaders.engine.compiled import fields
 from invaders.engine.detector import ZoneIndex
+from invaders.engine.predicates import solid_mask
 from invaders.game import bombs
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG
@@ -318,11 +319,41 @@ def test_a_bodys_fields_but_its_picture_are_numbers_flags_or_tuples_of_numbers()
         world.step(pilot.actions(world))
         for body in world.store.by_id.values() if tick % 10 == 0 else ():
             seen.add(type(body))
-            for name in set(_slots(type(body))) - {"mask"}:
+            for name in set(fields_of(type(body))) - {"mask"}:
                 value = getattr(body, name)
                 assert isinstance(value, int) or (isinstance(value, tuple) and all(
                     isinstance(number, int) for number in value)), (body, name, value)
     assert seen == {Alien, Bomb, Bunker, Cannon, Edge, Saucer, Shot}
+
+
+class TaggedBody(Body):
+    """A body of a class the game does not have, with a field of its own."""
+
+    __slots__ = ("tag",)
+
+    def __init__(self, tag: tuple[int, int]) -> None:
+        super().__init__(99, Kind.SHOT, 3, 4, solid_mask(2, 5))
+        self.tag = tag
+
+
+def test_a_bodys_copy_has_every_field_of_its_class_as_it_is():
+    """Body.__deepcopy__ writes Body's fields out and takes a subclass's own by name: every
+    field of every body of a played game, and of a class made here, comes out equal (one
+    left out raises, one taken from another field differs somewhere in 4,000 ticks)."""
+    world, pilot, copied = World(seed=5), Autopilot(5), 0
+    tagged = TaggedBody((7, 8))
+    tagged.px, tagged.moved_tick = 1, 12
+    for tick in range(4000):
+        world.step(pilot.actions(world))
+        bodies = [*world.store.by_id.values(), tagged] if tick % 10 == 0 else []
+        for body in bodies:
+            clone = copy.deepcopy(body)
+            assert type(clone) is type(body) and clone is not body
+            for name in fields_of(type(body)):
+                assert getattr(clone, name) == getattr(body, name), (body, name)
+            assert clone.mask is body.mask
+            copied += 1
+    assert copied > 15_000 and "tag" in fields_of(TaggedBody)
 
 
 def test_losing_the_last_ship_ends_the_game_and_start_begins_a_new_one():

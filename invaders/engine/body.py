@@ -58,23 +58,45 @@ class Body:
         drawn on, and masks cannot be deep-copied. An owner whose bodies' pictures change
         in place (a shield that erodes) puts copies of them in `memo` first. Every other
         field of a body is a number, a flag or a tuple of numbers (a test holds it), taken
-        as it is."""
-        clone = type(self).__new__(type(self))
+        as it is: Body's written out (a world's copy makes some sixty bodies, and a field
+        read and set by name costs several times as much), a subclass's own by name."""
+        cls = type(self)
+        clone = cls.__new__(cls)
         memo[id(self)] = clone
-        for name in _slots(type(self)):  # type: ignore[arg-type]  # (a class is hashable)
-            setattr(clone, name, getattr(self, name))
+        clone.id = self.id
+        clone.kind = self.kind
+        clone.x = self.x
+        clone.y = self.y
+        clone.px = self.px
+        clone.py = self.py
+        clone.moved_tick = self.moved_tick
+        clone.shaped_tick = self.shaped_tick
+        clone.fence = self.fence
         clone.mask = memo.get(id(self.mask), self.mask)
+        clone.w = self.w
+        clone.h = self.h
+        clone.alive = self.alive
+        for name in _own_fields(cls):  # type: ignore[arg-type]  # (a class is hashable)
+            setattr(clone, name, getattr(self, name))
         return clone
 
 
 @functools.cache
-def _slots(cls: type) -> tuple[str, ...]:
-    """Every field of a body of this class (Body's, and its subclass's own): its slots, or
-    compiled (where a class has none) the fields mypyc lists for it."""
-    compiled = getattr(cls, "__mypyc_attrs__", None)
-    if compiled is not None:
-        return tuple(compiled)
-    return tuple(name for klass in cls.__mro__ for name in getattr(klass, "__slots__", ()))
+def _own_fields(cls: type) -> tuple[str, ...]:
+    """The fields a subclass of Body adds to Body's (none for most of the game's)."""
+    body = fields_of(Body)
+    return tuple(name for name in fields_of(cls) if name not in body)
+
+
+def fields_of(cls: type) -> tuple[str, ...]:
+    """Every field of a body of this class, Body's and its subclasses' own: each class's
+    slots, or compiled (where a class has none) the fields mypyc lists for it (a Python
+    subclass of a compiled class has its own slots beside them)."""
+    names: dict[str, None] = {}
+    for klass in cls.__mro__:
+        own = vars(klass)
+        names.update(dict.fromkeys(own.get("__mypyc_attrs__", own.get("__slots__", ()))))
+    return tuple(names)
 
 
 def tick_box(body: Body, tick: int, swept: bool = True) -> tuple[int, int, int, int]:
