@@ -81,6 +81,22 @@ class Body:
         return clone
 
 
+def copy_bodies(bodies: list[Body], memo: dict[int, Any]) -> list[Body]:
+    """`copy.deepcopy(bodies, memo)` for a list of bodies, without its generic steps for
+    each: the list and each body copied once through `memo`, as deepcopy does, so that
+    whatever shares them shares the copies."""
+    clone = memo.get(id(bodies))
+    if clone is None:
+        clone = memo[id(bodies)] = [copied(body, memo) for body in bodies]
+    return clone
+
+
+def copied(body: Body, memo: dict[int, Any]) -> Body:
+    """`copy.deepcopy(body, memo)`: the body's copy, made once through `memo`."""
+    clone = memo.get(id(body))
+    return clone if clone is not None else body.__deepcopy__(memo)
+
+
 @functools.cache
 def _own_fields(cls: type) -> tuple[str, ...]:
     """The fields a subclass of Body adds to Body's (none for most of the game's)."""

@@ -20,7 +20,7 @@ from typing import Any
 
 import pygame
 
-from invaders.engine.body import NOWHERE, Body, tick_box
+from invaders.engine.body import NOWHERE, Body, copy_bodies, tick_box
 from invaders.engine.broadphase import BroadPhase, Group, KindSets, Pair, Scene, kept, pair_key
 from invaders.engine.grid import DEFAULT_CELL, FEW_MOVES, checked_cell
 from invaders.engine.rules import PairRule
@@ -58,7 +58,7 @@ class CellRects(BroadPhase):
         memo[id(self)] = clone
         clone.cell = self.cell
         clone.move_buffer = copy.deepcopy(self.move_buffer, memo)
-        clone.bodies = copy.deepcopy(self.bodies, memo)
+        clone.bodies = {kind: copy_bodies(bodies, memo) for kind, bodies in self.bodies.items()}
         clone.rects = {kind: [rect.copy() for rect in rects] for kind, rects in self.rects.items()}
         clone.rect_of = {body.id: rect for kind, bodies in clone.bodies.items()
                          for body, rect in zip(bodies, clone.rects[kind], strict=True)}

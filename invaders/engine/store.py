@@ -18,7 +18,7 @@ from typing import Any, Protocol
 
 import pygame
 
-from invaders.engine.body import NOWHERE, Body
+from invaders.engine.body import NOWHERE, Body, copy_bodies
 from invaders.engine.compiled import mypyc_attr
 
 _ID = attrgetter("id")
@@ -56,7 +56,7 @@ class BodyStore:
         entry by entry."""
         clone = copy.copy(self)  # (its numbers; the rest made anew below)
         memo[id(self)] = clone
-        clone.by_kind = copy.deepcopy(self.by_kind, memo)
+        clone.by_kind = {kind: copy_bodies(bodies, memo) for kind, bodies in self.by_kind.items()}
         clone.by_id = {body.id: body for bodies in clone.by_kind.values() for body in bodies}
         clone.listener = copy.deepcopy(self.listener, memo)
         clone._buffer = copy.deepcopy(self._buffer, memo)

@@ -5,8 +5,9 @@ from __future__ import annotations
 import copy
 from bisect import bisect_left
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, cast
 
+from invaders.engine.body import copied
 from invaders.engine.compiled import mypyc_attr
 from invaders.engine.store import BodyStore
 from invaders.game import art
@@ -53,7 +54,8 @@ class Rack:
         tuples and config taken as they are."""
         clone = copy.copy(self)
         memo[id(self)] = clone
-        clone.aliens = copy.deepcopy(self.aliens, memo)
+        clone.aliens = [None if alien is None else cast(Alien, copied(alien, memo))
+                        for alien in self.aliens]
         clone._live_indices = list(self._live_indices)
         return clone
 
