@@ -292,15 +292,17 @@ def _unchanging(value: object) -> bool:
 @pytest.mark.parametrize("broadphase", BROADPHASES)
 def test_what_a_worlds_copy_shares_with_it_nothing_changes(broadphase):
     """The parts of a world with copies of their own making (the world, its store, rack,
-    detector and broad phase) take some fields as they are: those must be values no one
-    changes in place, or the world and its copy would change each other's."""
+    detector, broad phase, saucer and bomb slots) take some fields as they are: those must
+    be values no one changes in place, or the world and its copy would change each
+    other's."""
     world, pilot = World(5, broadphase=broadphase), Autopilot(5)
     for _ in range(600):
         world.step(pilot.actions(world))
     clone = copy.deepcopy(world)
     pairs = [(world, clone), (world.store, clone.store), (world.rack, clone.rack),
              (world.detector, clone.detector),
-             (world.detector.broadphase, clone.detector.broadphase)]
+             (world.detector.broadphase, clone.detector.broadphase),
+             (world.saucer, clone.saucer), *zip(world.slots, clone.slots, strict=True)]
     active = getattr(world.detector.broadphase, "active", None)
     if active is not None:
         pairs.append((active, clone.detector.broadphase.active))

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Any, cast
 
+from invaders.engine.body import copied
 from invaders.engine.compiled import mypyc_attr
 from invaders.engine.store import BodyStore
 from invaders.game.config import GameConfig
@@ -31,6 +33,14 @@ class BombSlot:
     @property
     def busy(self) -> bool:
         return self.bomb is not None or self.burst > 0
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> BombSlot:
+        """A copy with its bomb's (made once, through `memo`), its numbers and flags as they
+        are: `replace` copies a field added later too, at a quarter of the generic copy's
+        cost."""
+        bomb = None if self.bomb is None else cast(Bomb, copied(self.bomb, memo))
+        clone = memo[id(self)] = replace(self, bomb=bomb)
+        return clone
 
 
 def new_slots() -> list[BombSlot]:

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Any, cast
 
+from invaders.engine.body import copied
 from invaders.engine.compiled import mypyc_attr
 from invaders.engine.store import BodyStore
 from invaders.game.config import GameConfig
@@ -40,6 +42,13 @@ class SaucerState:
     def busy(self) -> bool:
         """Pending, flying or exploding: the squiggly bomb does not fire meanwhile."""
         return self.due or self.saucer is not None or self.hit_steps > 0
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> SaucerState:
+        """A copy with its saucer's (made once, through `memo`), its numbers and flags as
+        they are (as a bomb slot's copy)."""
+        saucer = None if self.saucer is None else cast(Saucer, copied(self.saucer, memo))
+        clone = memo[id(self)] = replace(self, saucer=saucer)
+        return clone
 
 
 def count_down(state: SaucerState, config: GameConfig, ref_top: int) -> None:

@@ -136,7 +136,9 @@ class World:
         for mask in (self.ground, *(b.mask for b in self.bunkers), *self._shields_up,
                      *waiting):
             memo.setdefault(id(mask), mask.copy())
-        rng = random.Random()  # (its state's 625 numbers, copied at once)
+        # (seeded by a number, where the system's entropy would cost more; then given the
+        # state's 625 numbers at once)
+        rng = random.Random(0)
         rng.setstate(self.rng.getstate())
         memo.update({id(self.config): self.config, id(self.rules): self.rules,
                      id(self.rng): rng})
