@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import itertools
+import pickle
 import types
 from enum import Enum
 
@@ -14,6 +15,7 @@ from invaders.engine.adaptive import BROADPHASES, DEFAULT_BROADPHASE
 from invaders.engine.body import Body, fields_of
 from invaders.engine.compiled import fields
 from invaders.engine.detector import ZoneIndex
+from invaders.engine.pickling import mask_bytes
 from invaders.engine.predicates import solid_mask
 from invaders.game import bombs
 from invaders.game.actions import Action
@@ -356,6 +358,39 @@ def test_a_bodys_copy_has_every_field_of_its_class_as_it_is():
             assert clone.mask is body.mask
             copied += 1
     assert copied > 15_000 and "tag" in fields_of(TaggedBody)
+
+
+def test_a_pickled_world_plays_on_as_it_would_with_the_games_pictures_its_own():
+    """pickle (a world handed to another process): loaded, a two-player world in player
+    2's turn has the same state hash and plays on as the world does; its bodies hold the
+    game's shared pictures themselves, and the masks it erodes (shields, the ground, the
+    waiting player's shields) are copies of its own with the same pixels."""
+    world, pilot = World(seed=2, players=2), Autopilot(2)
+    for _ in range(600):
+        world.step(pilot.actions(world))
+    world.kill_cannon()
+    step_until(world, lambda r: Event.TURN_STARTED in r.events, limit=1000)
+    for _ in range(300):
+        world.step(pilot.actions(world))
+    loaded, pilot_copy = pickle.loads(pickle.dumps(world)), copy.deepcopy(pilot)
+    assert loaded.state_hash() == world.state_hash() and world.waiting.shields
+    for body_id, body in world.store.by_id.items():
+        mask = loaded.store.by_id[body_id].mask
+        assert (mask is body.mask) is (body.kind != Kind.BUNKER), body
+    owned = [(world.ground, loaded.ground), *zip(world.waiting.shields,
+                                                 loaded.waiting.shields, strict=True),
+             *((a.mask, b.mask) for a, b in zip(world.bunkers, loaded.bunkers, strict=True))]
+    for mask, copied in owned:
+        assert copied is not mask and mask_bytes(copied) == mask_bytes(mask)
+    assert all(b is loaded.store.by_id[b.id] for b in loaded.bunkers)
+    for tick in range(3000):
+        world.step(pilot.actions(world))
+        loaded.step(pilot_copy.actions(loaded))
+        if tick % 500 == 0:
+            assert loaded.state_hash() == world.state_hash()
+    assert loaded.state_hash() == world.state_hash() and world.score > 0
+    loaded.bunkers[0].mask.clear()
+    assert world.bunkers[0].mask.count() > 0
 
 
 def test_losing_the_last_ship_ends_the_game_and_start_begins_a_new_one():

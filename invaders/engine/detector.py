@@ -77,6 +77,10 @@ class ZoneIndex:
         """Itself: never changed once made (copied with every world's detector)."""
         return self
 
+    def __reduce__(self) -> tuple[type[ZoneIndex], tuple[Zone]]:
+        """Pickled as the call that makes it again from its zone."""
+        return ZoneIndex, (self.zone,)
+
     def within(self, bodies: Sequence[Body], tick: int) -> list[Body]:
         """Those of the bodies whose box over the tick meets the zone, in their order."""
         return [body for body in bodies if self.holds(body, tick)]

@@ -13,6 +13,8 @@ from functools import cache, lru_cache
 
 import pygame
 
+from invaders.engine.pickling import remade_by
+
 Point = tuple[int, int]
 
 
@@ -28,8 +30,9 @@ def mask_offset(ax: int, ay: int, bx: int, by: int) -> Point:
 
 @cache
 def solid_mask(w: int, h: int) -> pygame.mask.Mask:
-    """A filled w x h mask, for a side whose box is its whole shape."""
-    return pygame.mask.Mask((w, h), fill=True)
+    """A filled w x h mask, for a side whose box is its whole shape (shared: pickled as
+    this call)."""
+    return remade_by(pygame.mask.Mask((w, h), fill=True), solid_mask, w, h)
 
 
 def masks_overlap(

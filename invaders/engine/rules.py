@@ -15,7 +15,7 @@ as a pair handler is in pymunk. The table also names the kinds whose masks chang
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from enum import Enum
 from typing import Any
 
@@ -64,6 +64,11 @@ class PairRule:
         """Itself: frozen, and copied with every world (a detector holds its entries)."""
         return self
 
+    def __reduce__(self) -> tuple[type[PairRule], tuple[Any, ...]]:
+        """Pickled as the call that makes it (compiled, a frozen class takes no fields
+        set one by one, as pickle sets them)."""
+        return PairRule, tuple(getattr(self, f.name) for f in fields(self) if f.init)
+
     def shape_of(self, kind: int) -> Shape:
         return self.a_shape if kind == self.a else self.b_shape
 
@@ -88,6 +93,10 @@ class RuleTable:
             seen.add(pair)
             if rule.motion is Motion.SWEPT and rule.a in self.eroding and rule.b in self.eroding:
                 raise ValueError(f"entry {rule.a}-{rule.b}: both sides erode, nothing to sweep")
+
+    def __reduce__(self) -> tuple[type[RuleTable], tuple[Any, ...]]:
+        """Pickled as the call that makes it (see PairRule's)."""
+        return RuleTable, (self.entries, self.eroding)
 
     def __iter__(self) -> Iterator[PairRule]:
         return iter(self.entries)

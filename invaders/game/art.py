@@ -14,6 +14,8 @@ from functools import cache
 
 import pygame
 
+from invaders.engine.pickling import remade_by
+
 Art = tuple[str, ...]
 
 
@@ -39,11 +41,12 @@ def lit_cells(picture: Art) -> list[tuple[int, int]]:
 
 @cache
 def mask_of(picture: Art) -> pygame.mask.Mask:
-    """The collision mask of a picture (shared: never erase a mask from here)."""
+    """The collision mask of a picture (shared: never erase a mask from here; pickled as
+    this call, so that loaded it is the shared one again)."""
     mask = pygame.mask.Mask((len(picture[0]), len(picture)))
     for x, y in lit_cells(picture):
         mask.set_at((x, y), 1)
-    return mask
+    return remade_by(mask, mask_of, picture)
 
 
 def fresh_mask(picture: Art) -> pygame.mask.Mask:

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import pygame
 
 from invaders.engine.compiled import mypyc_attr
-from invaders.game import statehash
+from invaders.engine.pickling import mask_bytes
 from invaders.game.rack import Rack
 
 HOLD = 128  # frames the field stays as it was after the death (0315: TwoSecDelay, 0x80)
@@ -42,5 +42,5 @@ class Turn:
         kept = None if rack is None else (rack.ref_x, rack.ref_top, rack.dx, rack.frame,
                                           rack.live, tuple(a is not None for a in rack.aliens))
         return (self.number, self.score, self.ships, self.extra_awarded, self.wave, self.out,
-                kept, b"".join(statehash.mask_bytes(m) for m in self.shields))
+                kept, b"".join(mask_bytes(m) for m in self.shields))
 

@@ -173,6 +173,11 @@ class RackWatch:
         self._rack: Rack | None = None
         self._draws = self._breaks = 0
 
+    def __reduce__(self) -> tuple[type[RackWatch], tuple[()]]:
+        """Pickled as a new watch: loaded, the rack it watched is another object, so its
+        next look names every place."""
+        return RackWatch, ()
+
     def changed(self, rack: Rack) -> Sequence[int]:
         """The places to look at again, and note the rack as seen now."""
         count = rack.draws - self._draws

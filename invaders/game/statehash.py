@@ -11,8 +11,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-import pygame
-
 try:  # hashlib's own blake2b, without hashlib loading OpenSSL for the others (start-up)
     from _blake2 import blake2b
 except ImportError:  # an interpreter without that module
@@ -20,12 +18,6 @@ except ImportError:  # an interpreter without that module
 
 GROUPS = ("game", "rack", "cannon", "shot", "bombs", "saucer", "shields", "ground",
           "explosions")
-
-
-def mask_bytes(mask: pygame.mask.Mask) -> bytes:
-    """The mask's pixels, one byte each, row by row."""
-    surface = mask.to_surface(setcolor=(255, 255, 255, 255), unsetcolor=(0, 0, 0, 255))
-    return pygame.image.tobytes(surface, "RGB")[::3]
 
 
 def digest(value: object) -> str:

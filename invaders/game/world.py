@@ -23,6 +23,7 @@ from invaders.engine.body import Body
 from invaders.engine.compiled import fields, mypyc_attr
 from invaders.engine.detector import Detecting, Detector
 from invaders.engine.grid import DEFAULT_CELL
+from invaders.engine.pickling import mask_bytes, reduce_with_masks
 from invaders.engine.response import respond
 from invaders.engine.stats import CollisionStats, Contact
 from invaders.engine.store import BodyStore
@@ -147,6 +148,10 @@ class World:
         for name, value in fields(self).items():
             setattr(clone, name, copy.deepcopy(value, memo))
         return clone
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        """Pickled with its masks (pygame's cannot be): `invaders.engine.pickling`."""
+        return reduce_with_masks(self)
 
     def bodies(self, kind: Kind) -> list[Body]:
         """Live bodies of a kind, in id order."""
@@ -623,15 +628,15 @@ class World:
                        ship.from_left,
                        None if ship.saucer is None else (ship.saucer.id, ship.saucer.x,
                                                          ship.saucer.dx)),
-            "shields": b"".join(statehash.mask_bytes(b.mask) for b in self.bunkers),
-            "ground": statehash.mask_bytes(self.ground),
+            "shields": b"".join(mask_bytes(b.mask) for b in self.bunkers),
+            "ground": mask_bytes(self.ground),
             "explosions": tuple((e.blast.value, e.x, e.y, e.ttl) for e in self.explosions),
         }
         if not self.scoring:
             groups["game"] += ("demo",)
         if self.waiting is not None:  # (a one-player game's groups are as they always were)
             groups["game"] += (self.player, self.waiting.state(),
-                               b"".join(statehash.mask_bytes(m) for m in self._shields_up))
+                               b"".join(mask_bytes(m) for m in self._shields_up))
         return groups
 
     def group_hashes(self) -> dict[str, str]:
