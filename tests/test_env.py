@@ -6,8 +6,12 @@ from __future__ import annotations
 
 import copy
 import errno
+import hashlib
 import os
+import pickle
 import random
+import subprocess
+import sys
 import threading
 import types
 
@@ -16,7 +20,7 @@ import numpy as np
 import pygame
 import pytest
 from gymnasium.utils import seeding
-from gymnasium.utils.env_checker import check_env
+from gymnasium.utils.env_checker import check_env, data_equivalence
 
 import invaders.env  # noqa: F401  (registers the id)
 from invaders.app.cli import main
@@ -321,6 +325,74 @@ def test_a_deep_copy_of_the_environment_plays_on_as_it_would(options):
     _played(env, [draw.randrange(6) for _ in range(100)])
     copied, actions = copy.deepcopy(env), [draw.randrange(6) for _ in range(300)]
     assert _played(copied, actions) == _played(env, actions)
+
+
+@pytest.mark.parametrize("options", [{"obs_type": "rgb"}, {"obs_type": "state"},
+                                     {"obs_type": "grayscale", "resize": (84, 84), "stack": 4}])
+def test_the_environment_pickles_and_the_loaded_one_plays_on_as_it_would(options):
+    """Gymnasium's own test of its environments (`test_pickle_env`), which ALE's passes:
+    made by `gymnasium.make`, pickled and loaded, it steps and resets as the environment
+    does; here after 100 steps of an episode, for 300 more, then a reset and a step."""
+    env = gymnasium.make(ENV_ID, **options)
+    env.reset(seed=3)
+    draw = random.Random(2)
+    _played(env, [draw.randrange(6) for _ in range(100)])
+    loaded, actions = pickle.loads(pickle.dumps(env)), [draw.randrange(6) for _ in range(300)]
+    assert _played(loaded, actions) == _played(env, actions)
+    assert data_equivalence(loaded.reset(), env.reset())
+    action = env.action_space.sample()
+    assert data_equivalence(loaded.step(action), env.step(action))
+
+
+def test_a_shown_environment_copied_or_pickled_shows_its_own_play():
+    """A human-rendered environment's window is not copied: a copy, or one loaded from a
+    pickle, steps as the environment does and opens a window when it shows a step."""
+    env = SpaceInvadersEnv(obs_type="state", render_mode="human")
+    env.reset(seed=1)
+    env.step(1)
+    assert env._window is not None
+    for other in (copy.deepcopy(env), pickle.loads(pickle.dumps(env))):
+        assert other._window is None
+        assert _played(other, [1, 4]) == _played(copy.deepcopy(env), [1, 4])
+        assert other._window is not None
+
+
+STATE_RESTORED = """
+import pickle, sys
+from invaders.env.space_invaders import SpaceInvadersEnv
+from tests.test_env import steps_digest
+env = SpaceInvadersEnv(obs_type="state", frameskip=(2, 6))
+env.reset(seed=0)
+with open(sys.argv[1], "rb") as file:
+    env.restore_state(pickle.load(file))
+print(steps_digest(env))
+"""
+
+
+def steps_digest(env: SpaceInvadersEnv) -> str:
+    """A digest of 500 steps of fixed actions: observations, rewards, ends and infos."""
+    digest = hashlib.sha256()
+    for step in _played(env, [(i * 7) % 6 for i in range(500)]):
+        digest.update(repr(step).encode())
+    return digest.hexdigest()
+
+
+def test_a_state_pickled_is_restored_in_another_process_and_plays_the_same(tmp_path):
+    """ALE's states pickle: one cloned here (with the generator of sticky actions and frame
+    skips), written with pickle and restored in a new process plays the steps it plays
+    restored here; it holds no reference to this process's objects."""
+    env = SpaceInvadersEnv(obs_type="state", frameskip=(2, 6))
+    env.reset(seed=8)
+    _played(env, [random.Random(3).randrange(6) for _ in range(200)])
+    state = env.clone_state(include_rng=True)
+    (tmp_path / "state.pickle").write_bytes(pickle.dumps(state))
+    here = steps_digest(env)
+    env.restore_state(state)
+    assert steps_digest(env) == here
+    done = subprocess.run([sys.executable, "-c", STATE_RESTORED, str(tmp_path / "state.pickle")],
+                          capture_output=True, text=True, check=True,
+                          env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
+    assert done.stdout.split() == [here]
 
 
 def test_a_state_restored_without_the_generator_leaves_the_environments_own():

@@ -60,10 +60,11 @@ class PixelObserver:
         self.gel = gel
         self.grayscale = grayscale
 
-    def __deepcopy__(self, memo: dict[int, Any]) -> PixelObserver:
-        """A new one: the picture is drawn on a surface over `canvas`, which a copy of
-        each would part (the copy drawing on one and reading the other)."""
-        return PixelObserver(self.grayscale)
+    def __reduce__(self) -> tuple[type[PixelObserver], tuple[bool]]:
+        """Copied or pickled as a new one: the picture is drawn on a surface over `canvas`,
+        which a copy of each would part (the copy drawing on one and reading the other),
+        and surfaces cannot be pickled."""
+        return PixelObserver, (self.grayscale,)
 
     def observe(self, world: World, out: np.ndarray | None = None) -> np.ndarray:
         """The world's picture, tinted into a new array or into `out` (of its shape and
@@ -253,11 +254,11 @@ class Shrink:
         self.row_products = self._row_products(games)
         self.column_products = self._column_products()
 
-    def __deepcopy__(self, memo: dict[int, Any]) -> Shrink:
-        """A new one: its products hold views of its arrays, which a copy would part (and
-        it keeps nothing from one step to the next)."""
+    def __reduce__(self) -> tuple[type[Shrink], tuple[tuple[int, int], int]]:
+        """Copied or pickled as a new one: its products hold views of its arrays, which a
+        copy would part (and it keeps nothing from one step to the next)."""
         games, height, width = self.out.shape
-        return Shrink((height, width), games)
+        return Shrink, ((height, width), games)
 
     def _row_products(self, games: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
         """Each block of the rows' weights times the rows it covers, for as many games at

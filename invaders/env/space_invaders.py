@@ -138,6 +138,13 @@ class SpaceInvadersEnv(gym.Env):
         self.frame_number = 0
         self.world: World | None = None
 
+    def __getstate__(self) -> dict[str, Any]:
+        """Copied or pickled without its window (a copy that shows the game opens one)."""
+        state = self.__dict__.copy()
+        state["_window"] = None
+        state.pop("_clock", None)
+        return state
+
     @functools.cached_property
     def _pixels(self) -> PixelObserver:
         """What draws the picture observed, made when first drawn with (a batch that draws
