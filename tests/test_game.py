@@ -11,6 +11,7 @@ from enum import Enum
 
 import pytest
 
+from invaders.engine import pickling
 from invaders.engine.adaptive import BROADPHASES, DEFAULT_BROADPHASE
 from invaders.engine.body import Body, fields_of
 from invaders.engine.compiled import fields
@@ -391,6 +392,22 @@ def test_a_pickled_world_plays_on_as_it_would_with_the_games_pictures_its_own():
     assert loaded.state_hash() == world.state_hash() and world.score > 0
     loaded.bunkers[0].mask.clear()
     assert world.bunkers[0].mask.count() > 0
+
+
+def test_a_worlds_deep_copy_never_goes_through_pickle(monkeypatch):
+    """A world's copy is made field by field: its pickling (`__reduce__`, which copy.copy
+    would also take) costs several copies' time. A copy that pickled it would read its
+    shields' pixels."""
+    world = World(seed=1)
+    world.step(0)
+
+    def pixels_read(*_):
+        raise AssertionError("the copy went through pickle")
+
+    monkeypatch.setattr(pickling, "mask_bytes", pixels_read)
+    assert copy.deepcopy(world).state_hash() == world.state_hash()
+    with pytest.raises(AssertionError, match="through pickle"):
+        pickle.loads(pickle.dumps(world))
 
 
 def test_losing_the_last_ship_ends_the_game_and_start_begins_a_new_one():

@@ -143,7 +143,8 @@ class World:
         rng.setstate(self.rng.getstate())
         memo.update({id(self.config): self.config, id(self.rules): self.rules,
                      id(self.rng): rng})
-        clone = copy.copy(self)
+        cls = type(self)  # (not copy.copy, which would pickle it: `__reduce__`)
+        clone = cls.__new__(cls)
         memo[id(self)] = clone
         for name, value in fields(self).items():
             setattr(clone, name, copy.deepcopy(value, memo))
