@@ -221,16 +221,21 @@ def test_big_groups_pair_their_boxes_by_a_sort_first_and_give_pygames_answers(
         assert len(results[0][2]) < 500 - 100
 
 
-@pytest.mark.parametrize("collided", PREDICATES[:2])
+@pytest.mark.parametrize("collided", PREDICATES[:4])
 @pytest.mark.parametrize(("n", "span"), [(30, 140), (600, 500)])
 @pytest.mark.parametrize("kill_b", [False, True])
 def test_float_rects_are_tested_in_c_and_give_pygames_answers(collided, n, span, kill_b,
                                                               monkeypatch):
-    """FRects (pygame-ce's float rects) mixed with Rects on both sides: each sprite of the
-    first group tested against the second in one C call (the sorted boxes take whole
-    numbers alone), with pygame's answers, order and kills."""
-    each, calls = collide._collide_each, []
-    monkeypatch.setattr(collide, "_collide_each", lambda *a: calls.append(1) or each(*a))
+    """FRects (pygame-ce's float rects) mixed with Rects on both sides, corners a quarter,
+    half or three quarters of a pixel on: each sprite of the first group tested against
+    the second in one C call, or on big groups with masks only against the boxes near
+    its own (whole numbers, which the sorted boxes of rects take alone), with pygame's
+    answers, order and kills."""
+    calls = []
+    for loop in ("_collide_each", "_collide_near"):
+        tested = getattr(collide, loop)
+        monkeypatch.setattr(collide, loop,
+                            lambda *a, loop=loop, tested=tested: calls.append(loop) or tested(*a))
     results = []
     for function in (pygame.sprite.groupcollide, collide.groupcollide):
         side_a, side_b = _scene(5, n, n - n // 6, floats=True, span=span)
@@ -239,8 +244,56 @@ def test_float_rects_are_tested_in_c_and_give_pygames_answers(collided, n, span,
         results.append(([(_named([k], side_a, side_b), _named(vs, side_a, side_b))
                          for k, vs in found.items()], _named(group_b, side_a, side_b)))
     floats = sum(isinstance(s.rect, pygame.FRect) for s in side_a + side_b)
-    assert results[0] == results[1] and calls == [1]
-    assert len(results[0][0]) > n // 6 and 0 < floats < len(side_a + side_b)
+    masks = collided in collide.MASK_TESTS
+    assert results[0] == results[1]
+    assert calls == ["_collide_near" if masks and n == 600 else "_collide_each"]
+    assert len(results[0][0]) > n // 10 and 0 < floats < len(side_a + side_b)
+
+
+class Placed(pygame.sprite.Sprite):
+    def __init__(self, x: float, y: float, size: tuple[int, int]) -> None:
+        super().__init__()
+        self.rect = pygame.FRect(x, y, *size)
+        self.mask = pygame.mask.Mask(size, fill=True)
+
+
+CORNERS = st.builds(lambda whole, part: whole + part, st.integers(-10**6, 10**6),
+                    st.sampled_from([0.0, 0.001, 0.25, 0.5, 0.75, 0.999]) | st.floats(0, 1))
+
+
+@given(ax=CORNERS, ay=CORNERS, bx=CORNERS, by=CORNERS,
+       size_a=st.tuples(st.integers(0, 12), st.integers(0, 12)),
+       size_b=st.tuples(st.integers(0, 12), st.integers(0, 12)),
+       near=st.tuples(st.integers(-14, 14), st.integers(-14, 14)))
+def test_masks_that_pygame_finds_meeting_at_float_corners_have_boxes_that_overlap(
+        ax, ay, bx, by, size_a, size_b, near):
+    """The invariant of `float_mask_box`: pygame places a pair's second mask at the
+    difference of the FRects' corners, truncated; the pair's boxes at the corners' floors,
+    the first's widened a pixel, overlap whenever those masks meet. (The second sprite is
+    put near the first by `near`, whole pixels and its own fraction, for pairs that meet.)
+    Unwidened, two pairs that meet here would be missed."""
+    a = Placed(ax, ay, size_a)
+    b = Placed(int(ax) + near[0] + bx % 1, int(ay) + near[1] + by % 1, size_b)
+    if pygame.sprite.collide_mask(a, b):
+        assert collide.float_mask_box(a.rect, a.mask, 1).colliderect(
+            collide.float_mask_box(b.rect, b.mask, 0))
+    for first, second in (((0.5, 0.0), (4.2, 0.0)), ((-0.5, 0.0), (3.4, 0.0))):
+        a, b = Placed(*first, (4, 1)), Placed(*second, (4, 1))
+        assert pygame.sprite.collide_mask(a, b) == (3, 0)
+        assert not collide.float_mask_box(a.rect, a.mask, 0).colliderect(
+            collide.float_mask_box(b.rect, b.mask, 0))
+
+
+@pytest.mark.parametrize("far", [1e20, float("inf"), float("nan"), 2**31 - 2.0])
+def test_float_corners_past_the_boxes_reach_are_met_as_pygame_meets_them(far):
+    """Masks at corners no whole-pixel box can hold (past BOX_LIMIT, not finite): pygame's
+    answers, through the plain loop or the masks alone."""
+    side_a = [Placed(far - 3.5 if far < 2**31 else 0.5, 0.0, (4, 4)) for _ in range(5)]
+    side_b = [Placed(far, 0.0, (4, 4)) for _ in range(5)] + [Placed(0.25, 0.0, (4, 4))]
+    expected = pygame.sprite.groupcollide(side_a, side_b, False, False,
+                                          pygame.sprite.collide_mask)
+    assert collide.groupcollide(side_a, side_b, False, False,
+                                pygame.sprite.collide_mask) == expected
 
 
 CIRCLES = [pygame.sprite.collide_circle, collide.collide_circle,

@@ -6,10 +6,11 @@ Import these instead of `pygame.sprite`'s: `groupcollide`, `spritecollide`,
 give the same results, in the same order, with sprites killed when and as pygame kills them
 (pygame's own predicate objects are accepted as `collided` too). What differs is the cost:
 `groupcollide` with no predicate, `collide_rect` or `collide_mask`, on groups of integer
-`Rect`s (or, but for `collide_mask`, float `FRect`s too), reads each group's boxes once and
-tests each sprite of the first group against all of the second in one C call
-(`collidelistall`) instead of one Python call a pair, and on big groups of `Rect`s only
-against the boxes near its own, found by sorting the boxes (numpy: `_near`); with
+`Rect`s or float `FRect`s, reads each group's boxes once and tests each sprite of the first
+group against all of the second in one C call (`collidelistall`) instead of one Python
+call a pair (masks' boxes in whole pixels: `float_mask_box`), and on big groups of `Rect`s,
+or of either with `collide_mask`, only against the boxes near its own, found by sorting
+the boxes (numpy: `_near`); with
 `collide_circle` or `collide_circle_ratio`, on `Rect`s or `FRect`s, it tests boxes round
 the circles in C first, then the circles (`_collide_circles`); any other case runs the
 plain loop pygame runs, with `collide_rect` as a rect test and a mask made from an image
@@ -251,19 +252,19 @@ def _pairs(groupa: Any, groupb: Any) -> int:
 def _fast_sides(groupa: Iterable[Any], groupb: Iterable[Any], masks: bool
                 ) -> tuple[list[Any], list[Any], bool] | None:
     """Both groups' sprites, when the C tests give pygame's answer (for a known predicate),
-    and whether every rect is an integer Rect (what the sorted boxes and the masks' boxes
-    take): groups that are looked at again unchanged (a Group, whose kills the fast loop
-    follows, or a list or tuple) of Rects or, but for masks, FRects too, as they come
-    (`collidelistall` meets each box as `colliderect` does, Rect or FRect on either side)."""
+    and whether every rect is an integer Rect (what the sorted boxes of rects take; the
+    masks' boxes are whole numbers either way): groups that are looked at again unchanged
+    (a Group, whose kills the fast loop follows, or a list or tuple) of Rects or FRects, as
+    they come (`collidelistall` meets each box as `colliderect` does, Rect or FRect on
+    either side)."""
     kinds = (AbstractGroup, list, tuple)
     if not isinstance(groupa, kinds) or not isinstance(groupb, kinds):
         return None
     side_a, side_b = list(groupa), list(groupb)
     kinds_of_rect = {type(s.rect) for s in side_a} | {type(s.rect) for s in side_b}
-    whole = kinds_of_rect <= {pygame.Rect}
-    if not whole and (masks or not kinds_of_rect <= {pygame.Rect, pygame.FRect}):
+    if not kinds_of_rect <= {pygame.Rect, pygame.FRect}:
         return None
-    return side_a, side_b, whole
+    return side_a, side_b, kinds_of_rect <= {pygame.Rect}
 
 
 def _groupcollide_fast(sides: tuple[list[Any], list[Any], bool], groupb: Iterable[Any],
@@ -310,26 +311,61 @@ class _Second:
 
 
 def _collide_boxes(side_a: list[Any], second: _Second, whole: bool, masks: bool
-                   ) -> dict[Any, list[Any]]:
+                   ) -> dict[Any, list[Any]] | None:
     """The boxes that can meet: the rects, or for masks the masks' own boxes at the rects'
-    corners, then the masks themselves; on big groups of Rects (`whole`) only the boxes
-    near each other (`_collide_near`), else each sprite of the first group against all of
-    the second (`_collide_each`)."""
+    corners, then the masks themselves; on big groups of Rects, or of masks,
+    only the boxes near each other (`_collide_near`), else each sprite of the first group
+    against all of the second (`_collide_each`). None, for the plain loop to run, where a
+    mask's box cannot be made (a float corner that is no finite number or past a Rect's)."""
     # (the first sprite meets all of the second group: pygame makes all their masks)
     side_b = second.sprites
     mask_b = [_mask(s) for s in side_b] if masks else None
-    boxes_b = [s.rect for s in side_b] if mask_b is None else [
-        pygame.Rect(s.rect.topleft, m.get_size()) for s, m in zip(side_b, mask_b, strict=True)]
+    try:
+        boxes_b = ([s.rect for s in side_b] if mask_b is None
+                   else _mask_boxes(side_b, mask_b, whole, 0))
+    except (OverflowError, ValueError):
+        return None
     found = None
-    if whole and side_b and len(side_a) * len(side_b) >= NEAR_FROM:
-        found = _collide_near(side_a, second, boxes_b, mask_b)
+    if (whole or masks) and side_b and len(side_a) * len(side_b) >= NEAR_FROM:
+        found = _collide_near(side_a, second, boxes_b, mask_b, whole)
     if found is None:
-        found = _collide_each(side_a, second, boxes_b, mask_b)
+        found = _collide_each(side_a, second, boxes_b, mask_b, whole)
     return found
 
 
+def _mask_boxes(sprites: list[Any], masks: list[pygame.mask.Mask], whole: bool, widen: int
+                ) -> list[pygame.Rect]:
+    """The boxes of the sprites' masks at their rects' corners: as they are on Rects, else
+    through `float_mask_box`, `widen`ed."""
+    if whole:
+        return [pygame.Rect(s.rect.topleft, m.get_size()) for s, m in zip(sprites, masks,
+                                                                          strict=True)]
+    return [float_mask_box(s.rect, m, widen) for s, m in zip(sprites, masks, strict=True)]
+
+
+BOX_LIMIT = 2**30  # edges inside it: a box's sums stay inside a Rect's 32 bits
+
+
+def float_mask_box(rect: Any, mask: pygame.mask.Mask, widen: int) -> pygame.Rect:
+    """The box, in whole pixels, of a mask at a float rect's corner (an FRect's), `widen`
+    pixels wider each way. pygame places the second mask of a pair at the difference of
+    the rects' corners, truncated; that difference is within a pixel of the difference of
+    the corners' floors, so the masks of a pair can meet only if the box of the first,
+    widened a pixel, overlaps the second's, each at its corner's floor. Invariant held by
+    `tests/test_collide.py`, which fails it unwidened. OverflowError or ValueError where a
+    corner is no finite number or the box would pass BOX_LIMIT."""
+    x, y = rect.topleft
+    w, h = mask.get_size()
+    left, top = math.floor(x) - widen, math.floor(y) - widen
+    w, h = w + 2 * widen, h + 2 * widen
+    if not (-BOX_LIMIT <= left <= BOX_LIMIT - w and -BOX_LIMIT <= top <= BOX_LIMIT - h):
+        raise OverflowError(f"a box past {BOX_LIMIT}: {rect}")
+    return pygame.Rect(left, top, w, h)
+
+
 def _collide_each(side_a: list[Any], second: _Second, boxes_b: list[pygame.Rect],
-                  mask_b: list[pygame.mask.Mask] | None) -> dict[Any, list[Any]]:
+                  mask_b: list[pygame.mask.Mask] | None, whole: bool
+                  ) -> dict[Any, list[Any]]:
     """Each sprite of the first group tested against all of the second in one C call
     (`collidelistall`), its hits met as `_Second` meets them."""
     found: dict[Any, list[Any]] = {}
@@ -339,9 +375,14 @@ def _collide_each(side_a: list[Any], second: _Second, boxes_b: list[pygame.Rect]
             break
         if mask_b is not None:
             mask = _mask(sprite)
-            box = pygame.Rect(sprite.rect.topleft, mask.get_size())
             x, y = sprite.rect.topleft
-            near = [i for i in box.collidelistall(boxes_b)
+            try:
+                box = (pygame.Rect(sprite.rect.topleft, mask.get_size()) if whole
+                       else float_mask_box(sprite.rect, mask, 1))
+                boxed: Iterable[int] = box.collidelistall(boxes_b)
+            except (OverflowError, ValueError):  # (the masks alone decide)
+                boxed = range(len(side_b))
+            near = [i for i in boxed
                     if mask.overlap(mask_b[i], (side_b[i].rect[0] - x, side_b[i].rect[1] - y))]
         else:
             near = sprite.rect.collidelistall(boxes_b)
@@ -352,23 +393,23 @@ def _collide_each(side_a: list[Any], second: _Second, boxes_b: list[pygame.Rect]
 
 
 def _collide_near(side_a: list[Any], second: _Second, boxes_b: list[pygame.Rect],
-                  mask_b: list[pygame.mask.Mask] | None) -> dict[Any, list[Any]] | None:
+                  mask_b: list[pygame.mask.Mask] | None, whole: bool
+                  ) -> dict[Any, list[Any]] | None:
     """The fast loop for big groups: each sprite of the first group tested, in C, only
     against the boxes of the second that `_near` finds by its own (in the second group's
     order, as `collidelistall` gives them), its hits met as `_Second` meets them. None, for the
     plain loop to run, where a first sprite's mask cannot be made: the masks are made
     first here, where pygame makes each at its first pair, and fails there (or never, once
-    `dokillb` has emptied the second group)."""
+    `dokillb` has emptied the second group), or a mask's box cannot be made."""
     if mask_b is None:
         masks_a = None
         boxes_a = [s.rect for s in side_a]
     else:
         try:
             masks_a = [_mask(s) for s in side_a]
+            boxes_a = _mask_boxes(side_a, masks_a, whole, 1)
         except Exception:  # (pygame's error, or none, is the plain loop's to give)
             return None
-        boxes_a = [pygame.Rect(s.rect.topleft, m.get_size())
-                   for s, m in zip(side_a, masks_a, strict=True)]
     found: dict[Any, list[Any]] = {}
     side_b, killed = second.sprites, second.killed
     for index, near in enumerate(_near(boxes_a, boxes_b)):
