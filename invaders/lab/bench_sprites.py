@@ -1,13 +1,15 @@
 """Section 5 of `invaders bench`: `invaders.engine.collide.groupcollide` against pygame-ce's
-own, group sizes by predicates, still and moving, on the same sprites, taking turns.
+own, group sizes by predicates, still, moving and on FRects, on the same sprites, taking
+turns.
 
 The scenes are square fields of sprites 4 to 24 px a side with masks (a few pixels holed),
 as dense at every size (about one sprite's area in 40 x 40 px), so each size has collisions
 to find. In a moving scene every sprite takes a step of up to 3 px before each call (a
-step both sides are given and neither is timed on). Each round times both on the same
-groups, the order reversed from one round to the next, enough calls of each to last about
-10 ms; figures are medians over the rounds with their spread, the ratio the median of the
-per-round ratios.
+step both sides are given and neither is timed on); in a `floats` one the rects are
+pygame-ce's FRects, their corners and steps fractions of a pixel (sub-pixel motion).
+Each round times both on the same groups, the order reversed from one round to the next,
+enough calls of each to last about 10 ms; figures are medians over the rounds with their
+spread, the ratio the median of the per-round ratios.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from invaders.engine import collide
 from invaders.lab.timing import no_gc
 
 SIZES = (1, 5, 10, 100, 1000)
+MOTIONS = ("still", "moving", "floats")  # floats: FRects, moving by fractions of a pixel
 BIG_SIZE = 2000  # a side, with --big: pygame takes seconds a call there
 PREDICATES = (("none", None), ("collide_rect", pygame.sprite.collide_rect),
               ("collide_mask", pygame.sprite.collide_mask),
@@ -35,22 +38,27 @@ ROUND_SECONDS = 0.01
 
 
 class Block(pygame.sprite.Sprite):
-    """A sprite with a rect and a mask, a few of its pixels holed."""
+    """A sprite with a rect (an FRect at a fraction of a pixel with `floats`) and a mask, a
+    few of its pixels holed."""
 
-    def __init__(self, rng: random.Random, span: int) -> None:
+    def __init__(self, rng: random.Random, span: int, floats: bool = False) -> None:
         super().__init__()
         w, h = rng.randrange(4, 25), rng.randrange(4, 25)
-        self.rect = pygame.Rect(rng.randrange(span), rng.randrange(span), w, h)
+        x, y = rng.randrange(span), rng.randrange(span)
+        self.rect: pygame.Rect | pygame.FRect = (
+            pygame.FRect(x + rng.random(), y + rng.random(), w, h) if floats
+            else pygame.Rect(x, y, w, h))
         self.mask = pygame.mask.Mask((w, h), fill=True)
         for _ in range(5):
             self.mask.set_at((rng.randrange(w), rng.randrange(h)), 0)
 
 
-def groups(n: int, seed: int = 1) -> tuple[pygame.sprite.Group, pygame.sprite.Group]:
+def groups(n: int, seed: int = 1, floats: bool = False
+           ) -> tuple[pygame.sprite.Group, pygame.sprite.Group]:
     rng = random.Random(seed)
     span = int(40 * n ** 0.5) + 40
-    return (pygame.sprite.Group(Block(rng, span) for _ in range(n)),
-            pygame.sprite.Group(Block(rng, span) for _ in range(n)))
+    return (pygame.sprite.Group(Block(rng, span, floats) for _ in range(n)),
+            pygame.sprite.Group(Block(rng, span, floats) for _ in range(n)))
 
 
 def _call(groupcollide: Callable, group_a: pygame.sprite.Group, group_b: pygame.sprite.Group,
@@ -58,12 +66,15 @@ def _call(groupcollide: Callable, group_a: pygame.sprite.Group, group_b: pygame.
     return lambda: groupcollide(group_a, group_b, False, False, collided)
 
 
-def _steps(groups_: tuple[pygame.sprite.Group, ...], seed: int = 2) -> Callable[[], None]:
-    """A step of each sprite, up to 3 px each way, back and forth so the field keeps its
-    density: the scene a game hands over frame after frame."""
+def _steps(groups_: tuple[pygame.sprite.Group, ...], seed: int = 2, floats: bool = False
+           ) -> Callable[[], None]:
+    """A step of each sprite, up to 3 px each way (any fraction of a pixel with `floats`),
+    back and forth so the field keeps its density: the scene a game hands over frame after
+    frame."""
     sprites = [s for group in groups_ for s in group]
     rng = random.Random(seed)
-    moves = [(rng.randint(-3, 3), rng.randint(-3, 3)) for _ in sprites]
+    moves = [(rng.uniform(-3, 3), rng.uniform(-3, 3)) if floats
+             else (rng.randint(-3, 3), rng.randint(-3, 3)) for _ in sprites]
     count = [0]
 
     def step() -> None:
@@ -96,8 +107,9 @@ def _row(n: int, motion: str, name: str, collided: Callable | None, rounds: int
          ) -> list[float] | None:
     """Both sides timed by turns on one scene: the per-round ratios (pygame's time over
     ours), with the row printed; None if the answers differ."""
-    group_a, group_b = groups(n)
-    step = _steps((group_a, group_b)) if motion == "moving" else None
+    floats = motion == "floats"
+    group_a, group_b = groups(n, floats=floats)
+    step = _steps((group_a, group_b), floats=floats) if motion != "still" else None
     calls = {"theirs": _call(pygame.sprite.groupcollide, group_a, group_b, collided),
              "ours": _call(collide.groupcollide, group_a, group_b, collided)}
     if calls["theirs"]() != calls["ours"]():
@@ -122,13 +134,13 @@ def sprite_table(rounds: int, goal: Callable[..., None], big: bool = False,
                  largest: int | None = None) -> None:
     """Print the table and its goals: no row slower than pygame beyond its spread (some
     round at 1.0x or more), and with collide_mask at least 5x at 100 a side, 50x at 1,000
-    (still and moving alike: the module keeps nothing between calls)."""
+    (still, moving and on FRects alike: the module keeps nothing between calls)."""
     print("5. pygame's groupcollide against ours (invaders.engine.collide), the same "
           "groups, calls taking turns: median (lowest..highest round)")
     slower = []  # the rows where no round had ours at pygame's speed or better
     sizes = (*SIZES, BIG_SIZE) if big else SIZES
     for n in (n for n in sizes if largest is None or n <= largest):
-        for motion in ("still", "moving"):
+        for motion in MOTIONS:
             for name, collided in PREDICATES:
                 if name == "collide_circle" and n > LARGEST_CIRCLES:
                     continue
