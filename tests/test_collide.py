@@ -228,9 +228,8 @@ def test_float_rects_are_tested_in_c_and_give_pygames_answers(collided, n, span,
                                                               monkeypatch):
     """FRects (pygame-ce's float rects) mixed with Rects on both sides, corners a quarter,
     half or three quarters of a pixel on: each sprite of the first group tested against
-    the second in one C call, or on big groups with masks only against the boxes near
-    its own (whole numbers, which the sorted boxes of rects take alone), with pygame's
-    answers, order and kills."""
+    the second in one C call, or on big groups only against the boxes near its own (whole
+    pixels round the FRects), with pygame's answers, order and kills."""
     calls = []
     for loop in ("_collide_each", "_collide_near"):
         tested = getattr(collide, loop)
@@ -244,9 +243,8 @@ def test_float_rects_are_tested_in_c_and_give_pygames_answers(collided, n, span,
         results.append(([(_named([k], side_a, side_b), _named(vs, side_a, side_b))
                          for k, vs in found.items()], _named(group_b, side_a, side_b)))
     floats = sum(isinstance(s.rect, pygame.FRect) for s in side_a + side_b)
-    masks = collided in collide.MASK_TESTS
     assert results[0] == results[1]
-    assert calls == ["_collide_near" if masks and n == 600 else "_collide_each"]
+    assert calls == ["_collide_near" if n == 600 else "_collide_each"]
     assert len(results[0][0]) > n // 10 and 0 < floats < len(side_a + side_b)
 
 
@@ -282,6 +280,62 @@ def test_masks_that_pygame_finds_meeting_at_float_corners_have_boxes_that_overla
         assert pygame.sprite.collide_mask(a, b) == (3, 0)
         assert not collide.float_mask_box(a.rect, a.mask, 0).colliderect(
             collide.float_mask_box(b.rect, b.mask, 0))
+
+
+SIZES = st.floats(-40, 40, width=32) | st.floats(-2, 2, width=32)  # (boxes under a pixel too)
+BOXES = st.tuples(st.floats(-4e6, 4e6, width=32), st.floats(-4e6, 4e6, width=32), SIZES, SIZES)
+
+
+@given(box_a=BOXES, box_b=BOXES, near=st.tuples(st.floats(-3, 3), st.floats(-3, 3)))
+def test_frects_that_pygame_finds_meeting_have_spans_that_meet(box_a, box_b, near):
+    """The invariant of `_covering`: two FRects that `colliderect` says meet (in float32,
+    sizes negative too, corners up to 4,000,000, where a float32 step is a quarter of a
+    pixel) have whole-pixel spans that overlap or touch, as `_near` asks of them. (The
+    second box is put near the first by `near`, for pairs that meet.)"""
+    a = pygame.FRect(box_a)
+    b = pygame.FRect(a.x + near[0], a.y + near[1], box_b[2], box_b[3])
+    spans = collide._covering([a, b])
+    assert spans is not None
+    (a0, a1, a2, a3), (b0, b1, b2, b3) = spans.tolist()
+    if a.colliderect(b):
+        assert b0 <= a1 and b1 >= a0 and b2 <= a3 and b3 >= a2
+
+
+@pytest.mark.parametrize("base", [0.0, -7.0, 2.0**21])
+def test_frects_on_a_quarter_pixel_grid_that_meet_have_spans_that_meet(base):
+    """`_covering`'s invariant on every pair of boxes with corners and sizes on a grid of
+    quarter pixels (-2 to 2 from `base`; at 2**21 a float32 step is a quarter of a pixel),
+    along each axis: pairs under a pixel apart, touching or overlapping by a quarter."""
+    grid = [(base + corner / 4, size / 4) for corner in range(-8, 9) for size in range(-8, 9)]
+    for axis in (0, 1):
+        boxes = [pygame.FRect((corner, 0.0, size, 1.0) if axis == 0 else
+                              (0.0, corner, 1.0, size)) for corner, size in grid]
+        spans = collide._covering(boxes).tolist()
+        met = 0
+        for a, span_a in zip(boxes, spans, strict=True):
+            for b, span_b in zip(boxes, spans, strict=True):
+                if a.colliderect(b):
+                    met += 1
+                    assert span_b[0] <= span_a[1] and span_b[1] >= span_a[0], (a, b)
+                    assert span_b[2] <= span_a[3] and span_b[3] >= span_a[2], (a, b)
+        assert met > 10_000
+
+
+def test_big_groups_of_frects_past_the_spans_reach_are_met_as_pygame_meets_them():
+    """FRects past FLOAT_LIMIT (or not finite) take no spans: each sprite is tested against
+    the whole second group, with pygame's answers."""
+    rng = random.Random(4)
+    far = collide.FLOAT_LIMIT * 2
+
+    def thing(x: float) -> Thing:
+        return Thing(x + rng.random(), rng.uniform(0, 300), rng.randrange(1, 20),
+                     rng.randrange(1, 20), -2)
+
+    side_a = [thing(rng.uniform(0, 300)) for _ in range(500)]
+    side_b = [thing(rng.uniform(0, 300)) for _ in range(499)] + [thing(far)]
+    expected = pygame.sprite.groupcollide(side_a, side_b, False, False)
+    assert collide._covering([s.rect for s in side_b]) is None
+    assert collide.groupcollide(side_a, side_b, False, False) == expected and expected
 
 
 @pytest.mark.parametrize("far", [1e20, float("inf"), float("nan"), 2**31 - 2.0])

@@ -8,9 +8,9 @@ give the same results, in the same order, with sprites killed when and as pygame
 `groupcollide` with no predicate, `collide_rect` or `collide_mask`, on groups of integer
 `Rect`s or float `FRect`s, reads each group's boxes once and tests each sprite of the first
 group against all of the second in one C call (`collidelistall`) instead of one Python
-call a pair (masks' boxes in whole pixels: `float_mask_box`), and on big groups of `Rect`s,
-or of either with `collide_mask`, only against the boxes near its own, found by sorting
-the boxes (numpy: `_near`); with
+call a pair (masks' boxes in whole pixels: `float_mask_box`), and on big groups only
+against the boxes near its own, found by sorting the boxes (numpy: `_near`; whole pixels
+round FRects: `_covering`); with
 `collide_circle` or `collide_circle_ratio`, on `Rect`s or `FRect`s, it tests boxes round
 the circles in C first, then the circles (`_collide_circles`); any other case runs the
 plain loop pygame runs, with `collide_rect` as a rect test and a mask made from an image
@@ -326,7 +326,7 @@ def _collide_boxes(side_a: list[Any], second: _Second, whole: bool, masks: bool
     except (OverflowError, ValueError):
         return None
     found = None
-    if (whole or masks) and side_b and len(side_a) * len(side_b) >= NEAR_FROM:
+    if side_b and len(side_a) * len(side_b) >= NEAR_FROM:
         found = _collide_near(side_a, second, boxes_b, mask_b, whole)
     if found is None:
         found = _collide_each(side_a, second, boxes_b, mask_b, whole)
@@ -400,7 +400,8 @@ def _collide_near(side_a: list[Any], second: _Second, boxes_b: list[pygame.Rect]
     order, as `collidelistall` gives them), its hits met as `_Second` meets them. None, for the
     plain loop to run, where a first sprite's mask cannot be made: the masks are made
     first here, where pygame makes each at its first pair, and fails there (or never, once
-    `dokillb` has emptied the second group), or a mask's box cannot be made."""
+    `dokillb` has emptied the second group), or a mask's box cannot be made, or an FRect's
+    span (`_covering`)."""
     if mask_b is None:
         masks_a = None
         boxes_a = [s.rect for s in side_a]
@@ -410,9 +411,13 @@ def _collide_near(side_a: list[Any], second: _Second, boxes_b: list[pygame.Rect]
             boxes_a = _mask_boxes(side_a, masks_a, whole, 1)
         except Exception:  # (pygame's error, or none, is the plain loop's to give)
             return None
+    spans = _spans if whole or mask_b is not None else _covering  # (masks' boxes: whole)
+    spans_a, spans_b = spans(boxes_a), spans(boxes_b)
+    if spans_a is None or spans_b is None:
+        return None
     found: dict[Any, list[Any]] = {}
     side_b, killed = second.sprites, second.killed
-    for index, near in enumerate(_near(boxes_a, boxes_b)):
+    for index, near in enumerate(_near(spans_a, spans_b)):
         box = boxes_a[index]
         hits = [i for i in near if box.colliderect(boxes_b[i]) and not killed[i]]
         if hits and masks_a is not None and mask_b is not None:
@@ -505,13 +510,31 @@ def _spans(boxes: list[pygame.Rect]) -> np.ndarray:
                      np.minimum(y, y + h), np.maximum(y, y + h)], axis=1)
 
 
-def _near(boxes_a: list[pygame.Rect], boxes_b: list[pygame.Rect]) -> list[list[int]]:
-    """For each box of `boxes_a`, the indices (ascending) of the boxes of `boxes_b` whose
-    spans overlap or touch its own: every box that `colliderect` could say it meets, and a
-    few more, which the caller asks it about. The second boxes sorted by their left sides,
-    each first box takes those from its left less the widest of them to its right, then
+# FRects' corners and sizes within it, for their spans: float32 (an FRect's) rounds a sum
+# there by at most a quarter of a pixel, well inside `_covering`'s pixel each way.
+FLOAT_LIMIT = 2.0**22
+
+
+def _covering(boxes: list[Any]) -> np.ndarray | None:
+    """The spans (as `_spans` gives them) of whole pixels round each FRect, a pixel wider
+    each way: every box `colliderect` could say one meets, computing in float32, has a span
+    that overlaps or touches its own. None where a corner or size is past FLOAT_LIMIT or
+    no finite number. Invariant held by `tests/test_collide.py` against pygame's answers."""
+    corners = np.array([tuple(box) for box in boxes], dtype=np.float64).reshape(-1, 4)
+    if not (np.abs(corners) <= FLOAT_LIMIT).all():
+        return None
+    x, y, w, h = corners.T
+    return np.stack([np.floor(np.minimum(x, x + w)) - 1, np.ceil(np.maximum(x, x + w)) + 1,
+                     np.floor(np.minimum(y, y + h)) - 1, np.ceil(np.maximum(y, y + h)) + 1],
+                    axis=1).astype(np.int64)
+
+
+def _near(a: np.ndarray, b: np.ndarray) -> list[list[int]]:
+    """For each span of `a` (as `_spans` gives them), the indices (ascending) of the spans
+    of `b` that overlap or touch it: every box that `colliderect` could say it meets, and a
+    few more, which the caller asks it about. The second spans sorted by their left sides,
+    each first span takes those from its left less the widest of them to its right, then
     keeps those that overlap it both ways."""
-    a, b = _spans(boxes_a), _spans(boxes_b)
     order = np.argsort(b[:, 0], kind="stable")
     lefts = b[order, 0]
     widest = int((b[:, 1] - b[:, 0]).max())
