@@ -313,10 +313,10 @@ class _Second:
 def _collide_boxes(side_a: list[Any], second: _Second, whole: bool, masks: bool
                    ) -> dict[Any, list[Any]] | None:
     """The boxes that can meet: the rects, or for masks the masks' own boxes at the rects'
-    corners, then the masks themselves; on big groups of Rects, or of masks,
-    only the boxes near each other (`_collide_near`), else each sprite of the first group
-    against all of the second (`_collide_each`). None, for the plain loop to run, where a
-    mask's box cannot be made (a float corner that is no finite number or past a Rect's)."""
+    corners, then the masks themselves; on big groups only the boxes near each other
+    (`_collide_near`), else each sprite of the first group against all of the second
+    (`_collide_each`). None, for the plain loop to run, where a mask's box of the second
+    group cannot be made (a float corner that is no finite number or past BOX_LIMIT)."""
     # (the first sprite meets all of the second group: pygame makes all their masks)
     side_b = second.sprites
     mask_b = [_mask(s) for s in side_b] if masks else None
