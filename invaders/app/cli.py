@@ -11,6 +11,7 @@ from typing import NamedTuple, NoReturn
 
 from invaders import __version__
 from invaders.engine.adaptive import BROADPHASES, COMPILED, DEFAULT_BROADPHASE
+from invaders.engine.compiled import shadowed_note
 from invaders.engine.grid import DEFAULT_CELL
 from invaders.lab import choices
 from invaders.lab.styles import STYLES
@@ -425,6 +426,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
     use_dummy_drivers()
     print(f"core: {'compiled' if COMPILED else 'interpreted'} (docs/compiled.md)")
+    if (note := shadowed_note()) is not None:
+        print(note)
     if args.reading:
         from invaders.app.readbench import reading_bench
 
