@@ -1,8 +1,8 @@
 """What the compiled build (the core compiled by mypyc: docs/compiled.md) needs to be told of
 a class, the one helper that reads an object's fields either way, and whether a compiled
-build is installed behind the interpreted sources imported. Interpreted, the
-notes are nothing: `mypyc_attr` is mypy's own marker when mypy is installed, else a
-decorator that returns the class as it is."""
+build is installed behind the interpreted sources imported. Interpreted, the notes are
+nothing: `mypyc_attr` is mypy's own marker when mypy is installed, else a decorator that
+returns the class as it is."""
 
 from __future__ import annotations
 
