@@ -11,10 +11,11 @@ import numpy as np
 import pytest
 from gymnasium.wrappers import AtariPreprocessing
 
-import invaders.env  # noqa: F401  (registers the id)
+from invaders.env import NO_FRAMESKIP_ID  # (importing it registers the ids)
 from invaders.env.space_invaders import SpaceInvadersEnv
 
 ENV_ID = "invaders/SpaceInvaders-v0"
+LEFT, RIGHT = 3, 2  # (ALE's minimal set: NOOP, FIRE, RIGHT, LEFT, RIGHTFIRE, LEFTFIRE)
 
 
 def test_ales_interface_reads_what_the_steps_give():
@@ -93,6 +94,28 @@ def test_gymnasiums_atari_preprocessing_takes_the_last_two_frames_of_each_step()
             assert np.array_equal(obs, shrunk)
         steps += 1
     assert info["lives"] == lives - 1 and steps > 10 and not truncated
+
+
+def test_ales_no_frameskip_id_steps_a_frame_at_a_time_as_asked():
+    """`invaders/SpaceInvadersNoFrameskip-v4` has ALE's settings for that id (its
+    registration in ale-py: frame skip 1, no sticky actions, 108,000 frames an episode):
+    a step is one frame, and the cannon goes each way it is asked, every step (with
+    sticky actions a quarter of the frames would repeat the last way)."""
+    env = gymnasium.make(NO_FRAMESKIP_ID, obs_type="state")
+    obs, info = env.reset(seed=5)
+    assert env.unwrapped.max_num_frames_per_episode == 108_000
+    while obs[1] == 0:  # (the cannon waits at the wave's start)
+        obs, _, _, _, info = env.step(0)
+    frames, moves = info["episode_frame_number"], []
+    for step in range(1, 201):
+        action = RIGHT if step % 2 else LEFT
+        x = obs[0]
+        obs, _, _, _, info = env.step(action)
+        assert info["episode_frame_number"] == frames + step
+        if obs[1] == 1:  # (still there to move)
+            moves.append((action, obs[0] - x))
+    assert len(moves) > 100
+    assert moves == [(action, 1 if action == RIGHT else -1) for action, _ in moves]
 
 
 PLAYED = """
