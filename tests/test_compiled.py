@@ -43,6 +43,8 @@ def test_a_compiled_build_behind_the_sources_imported_is_found_and_said(tmp_path
     path = [str(tmp_path / "elsewhere"), str(tmp_path / "site-packages")]
     assert shadowed_build(path) == (None if COMPILED else build)
     assert shadowed_build(path[:1]) is None
+    (tmp_path / "archive.zip").write_bytes(b"")  # (entries no folder is under: no build)
+    assert shadowed_build([str(tmp_path / "archive.zip"), str(tmp_path / "gone"), ""]) is None
     monkeypatch.setattr(sys, "path", path)  # (every module needed is imported)
     note = shadowed_note()
     if COMPILED:  # (the compiled core imported: nothing stands in front of it)

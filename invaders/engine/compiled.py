@@ -40,10 +40,11 @@ def shadowed_build(path: Sequence[str] | None = None) -> Path | None:
     if spec is None or spec.origin is None or not spec.origin.endswith(".py"):
         return None
     for entry in sys.path if path is None else path:  # (the sources' own folder has none)
-        package = Path(entry or os.curdir).resolve() / "invaders"
-        if any((package / "engine" / f"adaptive{suffix}").is_file()
+        package = os.path.abspath(os.path.join(entry or os.curdir, "invaders"))
+        # (os.path.isfile: False, not an error, for a folder that cannot be read)
+        if any(os.path.isfile(os.path.join(package, "engine", f"adaptive{suffix}"))
                for suffix in EXTENSION_SUFFIXES):
-            return package
+            return Path(package)
     return None
 
 
