@@ -26,7 +26,6 @@ def test_the_core_is_compiled_exactly_when_built_so():
         assert module.__file__.endswith(".py") is not compiled, module.__file__
 
 
-
 def _a_build_in(folder: Path) -> Path:
     """A compiled build's trace in `folder`, as pip installs one: the core's modules as
     extensions (one stands for them all; its content is never read)."""
