@@ -21,7 +21,7 @@ def test_the_simulation_and_the_pipeline_read_no_clock_and_touch_no_display():
 
 def test_the_world_owns_the_only_generator():
     text = (ROOT / "invaders" / "game" / "world.py").read_text()
-    assert "random.Random(seed)" in text
+    assert "random.Random(self.seed)" in text
     for path in (ROOT / "invaders" / "game").glob("*.py"):
         if path.name != "world.py":
             assert "import random" not in path.read_text(), path.name

@@ -6,6 +6,7 @@ import copy
 import dataclasses
 import itertools
 import pickle
+import random
 import types
 from enum import Enum
 
@@ -314,6 +315,25 @@ def test_what_a_worlds_copy_shares_with_it_nothing_changes(broadphase):
         for name, value in fields(original).items():
             if getattr(copied, name) is value:
                 assert _unchanging(value), (type(original).__name__, name, value)
+
+
+def test_the_worlds_generator_draws_as_one_seeded_with_the_world_at_its_start():
+    """World.rng is made when first drawn from: it must draw what a generator seeded with
+    the world's seed draws, and a copy or a pickle of the world, made before the first
+    draw or after some, must draw on from where the world stood, on its own."""
+    world = World(seed=11)
+    fresh_copy, fresh_pickle = copy.deepcopy(world), pickle.loads(pickle.dumps(world))
+    seeded = random.Random(11)
+    assert [world.rng.random() for _ in range(3)] == [seeded.random() for _ in range(3)]
+    copied, pickled = copy.deepcopy(world), pickle.loads(pickle.dumps(world))
+    next_three = [seeded.random() for _ in range(3)]
+    assert [copied.rng.random() for _ in range(3)] == next_three
+    assert [pickled.rng.random() for _ in range(3)] == next_three
+    assert [world.rng.random() for _ in range(3)] == next_three  # (not the copies' own)
+    again = random.Random(11)
+    first_six = [again.random() for _ in range(6)]
+    assert [fresh_copy.rng.random() for _ in range(6)] == first_six
+    assert [fresh_pickle.rng.random() for _ in range(6)] == first_six
 
 
 def test_a_bodys_fields_but_its_picture_are_numbers_flags_or_tuples_of_numbers():
