@@ -3,6 +3,7 @@ nothing outside the config holds a copy. Bad values are refused naming field and
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 from collections.abc import Callable
 
@@ -238,3 +239,23 @@ def test_a_config_reads_back_from_its_repr_and_compares_and_hashes_by_its_values
     assert config != GameConfig(tick_hz=50)  # the nested geometry differs
     assert config != dataclasses.replace(config, tick_hz=60)
     assert {config: "kept"}[again] == "kept"
+
+
+def test_a_config_holds_whole_numbers_all_through_so_its_deep_copy_is_itself():
+    """Section.__deepcopy__ returns the section: right only while every field is a section
+    or declares a range, whose check takes whole numbers (and tuples of them) alone."""
+
+    def ranged(section) -> None:
+        for f in dataclasses.fields(section):
+            value = getattr(section, f.name)
+            if dataclasses.is_dataclass(value):
+                ranged(value)
+            else:
+                assert "range" in f.metadata, f.name
+
+    config = GameConfig(geometry=dataclasses.replace(G, rows=4))
+    ranged(config)
+    assert copy.deepcopy(config) is config
+    assert copy.deepcopy([config.rules])[0] is config.rules
+    with pytest.raises(ConfigError):  # (a list could change in place, and its copies with it)
+        Rules(alien_points=[10, 20, 30])

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import json
 import os
@@ -537,3 +538,28 @@ def test_errors_quote_a_short_prefix_of_what_the_file_holds(replay_file, tmp_pat
     assert main(["replay", str(path)]) == 2
     err = capsys.readouterr().err
     assert quoted in err and len(err) < 300
+
+
+def test_a_replays_deep_copy_is_equal_and_changes_apart():
+    """Runs and Checkpoints copy their columns whole (the environment copies an episode's
+    replay with every `clone_state`): the copy equals the replay, in its file's lines too,
+    and neither its inputs (a new run, or its last run made longer) nor its checkpoints
+    changed afterwards reach the replay, nor the replay's reach it."""
+    world = World(seed=3)
+    replay = record_headless(world, Autopilot(3), 300)
+    lines, runs = list(replay.lines()), list(replay.inputs)
+    ticks, count = replay.ticks, len(replay.checkpoints)
+    copied = copy.deepcopy(replay)
+    assert copied == replay and list(copied.lines()) == lines
+    assert copied.config is replay.config  # (a config is whole numbers: itself)
+    last_bits = runs[-1][0]
+    copied.append(last_bits)  # the last run made longer
+    copied.append(last_bits ^ 1)  # a new run
+    copied.checkpoints.append(Checkpoint.of(world))
+    assert list(replay.lines()) == lines and list(replay.inputs) == runs
+    assert (replay.ticks, len(replay.checkpoints)) == (ticks, count)
+    replay.append(last_bits)
+    fresh = Checkpoint.of(World(seed=8))
+    replay.checkpoints.append(fresh)
+    assert (copied.ticks, len(copied.checkpoints)) == (ticks + 2, count + 1)
+    assert copied.checkpoints[-1] == Checkpoint.of(world) != fresh == replay.checkpoints[-1]
