@@ -336,6 +336,20 @@ def test_the_worlds_generator_draws_as_one_seeded_with_the_world_at_its_start():
     assert [fresh_pickle.rng.random() for _ in range(6)] == first_six
 
 
+def test_the_state_hash_tells_the_generators_draws_apart_once_it_is_drawn_from():
+    """No 1978 rule draws from World.rng, so no game's hash includes it (the recorded
+    replays' checkpoints hold them as they were); once a rule draws, what it drew decides
+    the future, so the hash must differ with the draws and agree without a difference."""
+    drawn, again, untouched = World(seed=4), World(seed=4), World(seed=4)
+    before = untouched.state_hash()
+    drawn.rng.random()
+    again.rng.random()
+    assert drawn.state_hash() == again.state_hash() != before
+    again.rng.random()
+    assert again.state_hash() != drawn.state_hash()
+    assert untouched.state_hash() == before
+
+
 def test_a_bodys_fields_but_its_picture_are_numbers_flags_or_tuples_of_numbers():
     """What a body's deep copy takes as it is (Body.__deepcopy__ copies no field but the
     picture): a field that could change in place would be shared by a world and its copy."""

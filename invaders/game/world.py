@@ -650,6 +650,8 @@ class World:
         if self.waiting is not None:  # (a one-player game's groups are as they always were)
             groups["game"] += (self.player, self.waiting.state(),
                                b"".join(mask_bytes(m) for m in self._shields_up))
+        if self._rng is not None:  # (drawn from: no 1978 rule does, so hashes are as they were)
+            groups["game"] += (self._rng.getstate(),)
         return groups
 
     def group_hashes(self) -> dict[str, str]:
