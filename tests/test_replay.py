@@ -541,10 +541,10 @@ def test_errors_quote_a_short_prefix_of_what_the_file_holds(replay_file, tmp_pat
 
 
 def test_a_replays_deep_copy_is_equal_and_changes_apart():
-    """Runs and Checkpoints copy their columns whole (the environment copies an episode's
-    replay with every `clone_state`): the copy equals the replay, in its file's lines too,
-    and neither its inputs (a new run, or its last run made longer) nor its checkpoints
-    changed afterwards reach the replay, nor the replay's reach it."""
+    """A replay's deep copy (the environment makes one with every `clone_state` of a
+    recorded episode; Checkpoints copies its columns itself) equals the replay, in its
+    file's lines too, and neither its inputs (a new run, or its last run made longer) nor
+    its checkpoints changed afterwards reach the replay, nor the replay's reach it."""
     world = World(seed=3)
     replay = record_headless(world, Autopilot(3), 300)
     lines, runs = list(replay.lines()), list(replay.inputs)
