@@ -154,7 +154,7 @@ class World:
             rng = random.Random(0)
             rng.setstate(self._rng.getstate())
             memo[id(self._rng)] = rng
-        memo.update({id(self.config): self.config, id(self.rules): self.rules})
+        memo[id(self.rules)] = self.rules  # (the config's copy is itself: Section)
         cls = type(self)  # (not copy.copy, which would pickle it: `__reduce__`)
         clone = cls.__new__(cls)
         memo[id(self)] = clone
