@@ -6,10 +6,12 @@ from __future__ import annotations
 
 import copy
 import errno
+import gc
 import hashlib
 import os
 import pickle
 import random
+import signal
 import subprocess
 import sys
 import threading
@@ -492,6 +494,70 @@ def test_games_on_workers_record_their_episodes_when_closed(tmp_path, capsys):
     assert sorted(load(f).ticks for f in files) == [36] * 12 + [200] * 12
     assert main(["replay", str(folder)]) == 0
     assert capsys.readouterr().out.count("ok ") == 24
+
+
+UNCLOSED = """
+import sys
+
+import gymnasium
+import numpy as np
+
+import invaders.env  # noqa: F401
+
+how, folder = sys.argv[1], sys.argv[2]
+if how == "workers":
+    envs = gymnasium.make_vec("invaders/SpaceInvaders-v0", num_envs=3,
+                              vectorization_mode="vector_entry_point", workers=2,
+                              obs_type="state", record=folder)
+    envs.reset(seed=4)
+    for _ in range(25):
+        envs.step(np.array([1, 2, 3]))
+else:
+    env = gymnasium.make("invaders/SpaceInvaders-v0", obs_type="state", record=folder)
+    env.reset(seed=0)
+    for i in range(100):
+        env.step(i % 6)
+    if how == "interrupted":
+        raise KeyboardInterrupt
+    if how == "failed":
+        raise RuntimeError("a training script's own error")
+"""
+
+
+# (Python ends on an uncaught Ctrl-C by its own SIGINT, as the shell expects)
+@pytest.mark.parametrize(("how", "exit_code"), [("ended", 0), ("interrupted", -signal.SIGINT),
+                                                ("failed", 1), ("workers", 0)])
+def test_a_script_that_never_closes_its_environment_loses_no_episode(how, exit_code,
+                                                                     tmp_path, capsys):
+    """A script that ends without closing: at its last line, stopped by Ctrl-C or by an
+    error. The episode in progress is written as close writes it; so are those of the
+    native batch's games on workers, which the program's end would otherwise kill."""
+    folder = tmp_path / "episodes"
+    done = subprocess.run([sys.executable, "-c", UNCLOSED, how, str(folder)],
+                          env={**os.environ, "SDL_VIDEODRIVER": "dummy"},
+                          capture_output=True, text=True)
+    assert done.returncode == exit_code, done.stderr
+    files = sorted(folder.glob("*.json"))
+    assert [load(f).ticks for f in files] == ([100] * 3 if how == "workers" else [400])
+    assert main(["replay", str(folder)]) == 0
+    assert capsys.readouterr().out.count("ok ") == len(files)
+
+
+def test_an_environment_dropped_unclosed_writes_its_episode_and_so_does_its_copy(tmp_path):
+    """Garbage collected without close, an environment writes the episode it was playing;
+    a copy of it (pickled and loaded) records on by itself, and writes its own."""
+    env = SpaceInvadersEnv(obs_type="state", record=tmp_path)
+    env.reset(seed=2)
+    for _ in range(50):
+        env.step(1)
+    loaded = pickle.loads(pickle.dumps(env))
+    for _ in range(20):
+        loaded.step(2)
+    del env, loaded
+    gc.collect()
+    shorter, longer = sorted(map(load, tmp_path.glob("*.json")), key=lambda r: r.ticks)
+    assert (shorter.ticks, longer.ticks) == (200, 280)
+    assert list(longer.actions())[:200] == list(shorter.actions())
 
 
 def test_a_worker_killed_is_said_at_the_next_step_and_closing_still_closes(tmp_path):

@@ -12,9 +12,7 @@ from __future__ import annotations
 
 import copy
 import functools
-import os
 import random
-import tempfile
 from dataclasses import dataclass
 from math import inf
 from pathlib import Path
@@ -25,7 +23,6 @@ import numpy as np
 import pygame
 from gymnasium import spaces
 
-from invaders.atomic import write_new
 from invaders.engine.stats import STAT_FIELDS
 from invaders.env.ale_view import AleView
 from invaders.env.observations import (
@@ -36,10 +33,11 @@ from invaders.env.observations import (
     Stack,
     StateObserver,
 )
+from invaders.env.recording import EpisodeRecorder
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG, SCREEN_H, SCREEN_W
 from invaders.game.events import Event
-from invaders.game.replay import CHECKPOINT_EVERY, Checkpoint, Replay
+from invaders.game.replay import Replay
 from invaders.game.world import SCORE_WRAP, Phase, TickReport, World
 
 GAME_OVER = Phase.GAME_OVER
@@ -132,9 +130,9 @@ class SpaceInvadersEnv(gym.Env):
         self._state = StateObserver()
         self._shown: PixelObserver | None = None  # for render(), when observations are not RGB
         self._window: pygame.Surface | None = None  # the human render's
-        self._record = _record_folder(record)
-        self._replay: Replay | None = None
-        self._episodes = 0
+        self._recorder = EpisodeRecorder.into(record)
+        if self._recorder is not None:
+            self._recorder.watch(self)
         self.frame_number = 0
         self.world: World | None = None
 
@@ -144,6 +142,13 @@ class SpaceInvadersEnv(gym.Env):
         state["_window"] = None
         state.pop("_clock", None)
         return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """A copy, or one loaded, records its own episodes as this one does: written when
+        it is dropped or the program ends, too."""
+        self.__dict__.update(state)
+        if self._recorder is not None:
+            self._recorder.watch(self)
 
     @functools.cached_property
     def _pixels(self) -> PixelObserver:
@@ -213,7 +218,6 @@ class SpaceInvadersEnv(gym.Env):
     def begin(self, seed: int | None) -> None:
         """A new episode, its world seeded from the environment's generator (seeded first
         by `reset`): what reset does besides the observation and info."""
-        self._save_episode()
         if seed is not None:  # as ALE, which loads its cartridge again when seeded
             self.frame_number = 0
         world_seed = int(self.np_random.integers(0, 2**31 - 1))
@@ -224,9 +228,8 @@ class SpaceInvadersEnv(gym.Env):
         self._draws = random.Random(int(self.np_random.integers(0, 2**63 - 1)))
         self._previous = NOOP  # sticky actions repeat this, as ALE's start from NOOP
         self._episode_frames = 0
-        if self._record is not None:
-            self._replay = Replay(world_seed, DEFAULT_CONFIG)
-            self._replay.checkpoints.append(Checkpoint.of(self.world))
+        if self._recorder is not None:  # (the last episode written first, if it was not)
+            self._recorder.begin(self.world)
 
     def advance(self, action: int) -> tuple[float, bool, bool, list[TickReport]]:
         """The step's frames (an action already checked): the reward, whether the game is
@@ -241,14 +244,14 @@ class SpaceInvadersEnv(gym.Env):
         # Sticky actions, frame by frame: each frame keeps the previous frame's input with
         # the given probability.
         draw, sticky = self._draws.random, self.repeat_action_probability
-        reports = []
+        recorder, reports = self._recorder, []
         frames_left = self.frame_limit - self._episode_frames
         for _ in range(self._skip()):
             bits = self._previous if draw() < sticky else wanted
             self._previous = bits
             reports.append(world.step(bits))
-            if self._replay is not None:
-                self._note(bits)
+            if recorder is not None:
+                recorder.note(bits)
             if world.phase is GAME_OVER or len(reports) == frames_left:
                 break
         self._episode_frames += len(reports)
@@ -256,8 +259,8 @@ class SpaceInvadersEnv(gym.Env):
         # (both, as ALE's, when the game ends on the limit's frame)
         terminated = world.phase is GAME_OVER
         truncated = self.cut_short
-        if terminated or truncated:
-            self._save_episode()
+        if (terminated or truncated) and recorder is not None:
+            recorder.save()
         # (the counter has four digits, as the ROM's: points past 9990 wrap to 0000)
         return float((world.score - score) % SCORE_WRAP), terminated, truncated, reports
 
@@ -267,10 +270,11 @@ class SpaceInvadersEnv(gym.Env):
         skips: the same actions after a restore then give the same episode."""
         if self.world is None:
             raise RuntimeError("call reset() before clone_state()")
+        recorder = self._recorder
         return EnvState(copy.deepcopy(self.world), self._previous, self._episode_frames,
                         self.frame_number,
                         None if self._stack is None else self._stack.frames.copy(),
-                        copy.deepcopy(self._replay),
+                        None if recorder is None else copy.deepcopy(recorder.replay),
                         self._draws.getstate() if include_rng else None)
 
     def restore_state(self, state: EnvState) -> None:
@@ -289,7 +293,8 @@ class SpaceInvadersEnv(gym.Env):
         self.frame_number = state.frame_number
         if self._stack is not None and stacked is not None:  # (both, as checked above)
             self._stack.frames[:] = stacked
-        self._replay = copy.deepcopy(state.replay)
+        if self._recorder is not None:
+            self._recorder.follow(self.world, copy.deepcopy(state.replay))
         if state.draws is not None:
             self._draws.setstate(state.draws)
 
@@ -308,7 +313,8 @@ class SpaceInvadersEnv(gym.Env):
         return None
 
     def close(self) -> None:
-        self._save_episode()
+        if self._recorder is not None:
+            self._recorder.save()
         if self._window is not None:
             pygame.display.quit()
             self._window = None
@@ -349,26 +355,6 @@ class SpaceInvadersEnv(gym.Env):
                 "events": tuple(event.name for event in step_events(reports)),
                 "collisions": dict(zip(STAT_FIELDS, step_counters(reports), strict=True)),
                 "seed": self.world.seed}
-
-    def _note(self, bits: int) -> None:
-        """The tick into the episode's replay, with a checkpoint where the format keeps one."""
-        replay = self._replay
-        if replay is not None:
-            replay.append(bits)
-            if self.world.tick % CHECKPOINT_EVERY == 0:  # type: ignore[union-attr]
-                replay.checkpoints.append(Checkpoint.of(self.world))  # type: ignore[arg-type]
-
-    def _save_episode(self) -> None:
-        """Write the episode played so far as a replay (once; nothing if none was played)."""
-        replay, world = self._replay, self.world
-        self._replay = None
-        if replay is None or world is None or not replay.ticks or self._record is None:
-            return
-        if replay.checkpoints[-1].tick != world.tick:
-            replay.checkpoints.append(Checkpoint.of(world))
-        self._episodes += 1
-        name = f"episode-{self._episodes:05d}-seed-{replay.seed}.json"
-        write_new(self._record / name, "".join(replay.lines()))  # (never over another's)
 
     def _show(self, picture: np.ndarray) -> None:
         if self._window is None:
@@ -412,22 +398,6 @@ def _check_cartridge(mode: Any, difficulty: Any) -> None:
         if not (value is None or (isinstance(value, (int, np.integer)) and value == 0)):
             raise ValueError(f"{name} {value!r}: None or 0 (the arcade game has no "
                              "variations; ALE's are the 2600 cartridge's)")
-
-
-def _record_folder(record: str | Path | None) -> Path | None:
-    """The folder episodes are recorded in, made now and tried with a file written and
-    removed, so a folder that cannot take them fails here (an OSError naming it), not after
-    the first episode's play; None: no recording."""
-    if record is None:
-        return None
-    if not str(record):
-        raise ValueError("record '': a folder to write episodes in, or None")
-    folder = Path(record)
-    folder.mkdir(parents=True, exist_ok=True)
-    fd, tried = tempfile.mkstemp(prefix=".episode.", dir=folder)
-    os.close(fd)
-    os.unlink(tried)
-    return folder
 
 
 def _valid_skip(frameskip: Any) -> bool:

@@ -13,6 +13,7 @@ draws and shrinks its games' grey pictures together (games.py).
 
 from __future__ import annotations
 
+import weakref
 from typing import Any, cast
 
 import numpy as np
@@ -60,6 +61,9 @@ class SpaceInvadersVectorEnv(VectorEnv):
         else:
             self._games = Pool(num_envs, workers, options, shape, dtype, context)
         self._rows = self._games.rows
+        # The games closed (their episodes in progress written, the workers ended) when
+        # the vector is dropped or the program ends without closing it.
+        weakref.finalize(self, self._games.close)
 
     @property
     def envs(self) -> list[SpaceInvadersEnv]:
