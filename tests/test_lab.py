@@ -227,8 +227,7 @@ def test_a_recording_stops_at_the_lab_switch_limit_and_the_file_replays(tmp_path
     """The limit lowered to 5 switches (10,000 in the program): the checkpoint whose line
     would hold the sixth is not written, recording stops with one line, and the file (4
     switches) replays; two switches more in the file are refused by its reader."""
-    from invaders.app import recording
-    from invaders.game import replay_checks
+    from invaders.game import recording, replay_checks
 
     for module in (recording, replay_checks):
         monkeypatch.setattr(module, "MAX_SWITCHES", 5)
