@@ -560,6 +560,30 @@ def test_an_environment_dropped_unclosed_writes_its_episode_and_so_does_its_copy
     assert list(longer.actions())[:200] == list(shorter.actions())
 
 
+def test_an_episode_past_a_replays_limits_is_recorded_up_to_them_with_a_warning(
+        tmp_path, monkeypatch, capsys):
+    """The input runs a replay may hold lowered to 30 (a million in the program, which an
+    episode without a frame limit could pass after hours of play): a new input every step
+    (4 frames) makes 15 runs between checkpoints, so the recording stops at the second
+    checkpoint (tick 120), said once by a warning; the game plays on, and the file
+    written at the episode's end replays under the same limit."""
+    from invaders.game import recording, replay_checks, replay_reading
+
+    for module in (recording, replay_checks, replay_reading):
+        monkeypatch.setattr(module, "MAX_RUNS", 30)
+    env = SpaceInvadersEnv(obs_type="state", record=tmp_path, repeat_action_probability=0.0)
+    env.reset(seed=3)
+    with pytest.warns(RuntimeWarning, match="recording stopped at tick 120") as warned:
+        for i in range(100):
+            env.step(i % 6)
+    assert len(warned) == 1 and env.episode_frame_number == 400
+    env.close()
+    (path,) = tmp_path.glob("*.json")
+    assert load(path).ticks == 120
+    assert main(["replay", str(path)]) == 0
+    assert capsys.readouterr().out.startswith("ok ")
+
+
 def test_a_worker_killed_is_said_at_the_next_step_and_closing_still_closes(tmp_path):
     from invaders.env.workers import WorkerEnded
 

@@ -5,29 +5,47 @@ script that never closes its environment (stopped by Ctrl-C or an error, or simp
 when the environment is dropped or the program ends: a finalizer (`weakref.finalize`)
 writes the episode in progress then, as `close` would (not in a process killed by a
 signal, which runs nothing more). Each file is written whole under a name no other file
-has (`write_new`): a reader never sees a torn one, and none is written over.
+has (`write_new`): a reader never sees a torn one, and none is written over. An episode
+is recorded as the window's games are (`ReplayRecorder`), inside the limits a replay's
+reader keeps: past them (an episode without a frame limit, hours of play long), its
+recording stops, with a warning, and its file replays up to there.
 """
 
 from __future__ import annotations
 
 import os
 import tempfile
+import warnings
 import weakref
 from pathlib import Path
 
 from invaders.atomic import write_new
-from invaders.game.replay import CHECKPOINT_EVERY, Checkpoint, Replay
+from invaders.game.recording import ReplayRecorder
+from invaders.game.replay import MAX_FILE_BYTES
 from invaders.game.world import World
 
 
-class EpisodeRecorder:
-    """The episode being recorded (its replay, and the world it is of) and the episodes
-    written so far, into one folder."""
+class Episode(ReplayRecorder):
+    """One episode's recording: where it stops at a replay's limits, a warning says so."""
 
-    def __init__(self, folder: Path) -> None:
+    def __init__(self, world: World, folder: Path, limit: int) -> None:
+        super().__init__(world, limit=limit)
         self.folder = folder
-        self.replay: Replay | None = None  # None between episodes, once one is written
-        self.world: World | None = None
+
+    def _stop(self) -> None:
+        super()._stop()
+        warnings.warn(f"invaders: an episode recorded in {self.folder}: {self.stopped}",
+                      RuntimeWarning, stacklevel=2)
+
+
+class EpisodeRecorder:
+    """The episode being recorded and the episodes written so far, into one folder;
+    `limit`: the bytes a file may take (a replay's limit)."""
+
+    def __init__(self, folder: Path, limit: int = MAX_FILE_BYTES) -> None:
+        self.folder = folder
+        self.limit = limit
+        self.episode: Episode | None = None  # None between episodes, once one is written
         self.written = 0
 
     @classmethod
@@ -54,32 +72,26 @@ class EpisodeRecorder:
     def begin(self, world: World) -> None:
         """A new episode of `world` (the last one written first, if it was not)."""
         self.save()
-        self.world, self.replay = world, Replay(world.seed, world.config)
-        self.replay.checkpoints.append(Checkpoint.of(world))
+        self.episode = Episode(world, self.folder, self.limit)
 
-    def follow(self, world: World, replay: Replay | None) -> None:
-        """Record on from a state gone back to: its world and its recording so far (the
+    def follow(self, episode: Episode | None) -> None:
+        """Record on from a state gone back to: its recording so far, of its world (the
         episode in progress is dropped, not written: a search's every try would be)."""
-        self.world, self.replay = world, replay
+        self.episode = episode
 
     def note(self, bits: int) -> None:
-        """The tick just played with these input bits, with a checkpoint where the format
-        keeps one."""
-        replay, world = self.replay, self.world
-        if replay is None or world is None:  # (a state gone back to that was not recorded)
-            return
-        replay.append(bits)
-        if world.tick % CHECKPOINT_EVERY == 0:
-            replay.checkpoints.append(Checkpoint.of(world))
+        """The tick just played, with these input bits."""
+        if self.episode is not None:  # (None: a state gone back to that was not recorded)
+            self.episode.tick(bits)
 
     def save(self) -> None:
-        """Write the episode played so far (once; nothing if no tick was played)."""
-        replay, world = self.replay, self.world
-        self.replay = None
-        if replay is None or world is None or not replay.ticks:
+        """Write the episode played so far (once; nothing if no tick was recorded)."""
+        episode, self.episode = self.episode, None
+        if episode is None:
             return
-        if replay.checkpoints[-1].tick != world.tick:
-            replay.checkpoints.append(Checkpoint.of(world))
+        replay = episode.finished()
+        if not episode.ticks:
+            return
         self.written += 1
         name = f"episode-{self.written:05d}-seed-{replay.seed}.json"
         write_new(self.folder / name, "".join(replay.lines()))  # (never over another's)

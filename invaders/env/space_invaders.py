@@ -33,11 +33,10 @@ from invaders.env.observations import (
     Stack,
     StateObserver,
 )
-from invaders.env.recording import EpisodeRecorder
+from invaders.env.recording import Episode, EpisodeRecorder
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG, SCREEN_H, SCREEN_W
 from invaders.game.events import Event
-from invaders.game.replay import Replay
 from invaders.game.world import SCORE_WRAP, Phase, TickReport, World
 
 GAME_OVER = Phase.GAME_OVER
@@ -88,7 +87,7 @@ class EnvState:
     episode_frames: int
     frame_number: int
     stacked: np.ndarray | None
-    replay: Replay | None
+    episode: Episode | None  # (with record: its recording so far)
     draws: tuple | None  # (random.Random's state, with include_rng)
 
 
@@ -270,11 +269,11 @@ class SpaceInvadersEnv(gym.Env):
         skips: the same actions after a restore then give the same episode."""
         if self.world is None:
             raise RuntimeError("call reset() before clone_state()")
-        recorder = self._recorder
-        return EnvState(copy.deepcopy(self.world), self._previous, self._episode_frames,
-                        self.frame_number,
-                        None if self._stack is None else self._stack.frames.copy(),
-                        None if recorder is None else copy.deepcopy(recorder.replay),
+        recording = None if self._recorder is None else self._recorder.episode
+        # (copied together: the recording's world is the world's copy)
+        world, episode = copy.deepcopy((self.world, recording))
+        return EnvState(world, self._previous, self._episode_frames, self.frame_number,
+                        None if self._stack is None else self._stack.frames.copy(), episode,
                         self._draws.getstate() if include_rng else None)
 
     def restore_state(self, state: EnvState) -> None:
@@ -288,13 +287,13 @@ class SpaceInvadersEnv(gym.Env):
                                         or stacked.shape != self._stack.frames.shape):
             raise ValueError("restore_state: the state is of an environment that stacks "
                              "other pictures")
-        self.world = copy.deepcopy(state.world)
+        self.world, episode = copy.deepcopy((state.world, state.episode))
         self._previous, self._episode_frames = state.previous, state.episode_frames
         self.frame_number = state.frame_number
         if self._stack is not None and stacked is not None:  # (both, as checked above)
             self._stack.frames[:] = stacked
         if self._recorder is not None:
-            self._recorder.follow(self.world, copy.deepcopy(state.replay))
+            self._recorder.follow(episode)
         if state.draws is not None:
             self._draws.setstate(state.draws)
 
