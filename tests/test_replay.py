@@ -21,6 +21,7 @@ from invaders.app.cli import main
 from invaders.app.play import Session, open_window
 from invaders.app.recording import Recorder, record_headless, save_replay
 from invaders.game.config import GameConfig
+from invaders.game.recording import ReplayRecorder
 from invaders.game.replay import Checkpoint, Replay, ReplayError, load, parse, parse_lines, run
 from invaders.game.statehash import combine
 from invaders.game.world import World
@@ -563,3 +564,43 @@ def test_a_replays_deep_copy_is_equal_and_changes_apart():
     replay.checkpoints.append(fresh)
     assert (copied.ticks, len(copied.checkpoints)) == (ticks + 2, count + 1)
     assert copied.checkpoints[-1] == Checkpoint.of(world) != fresh == replay.checkpoints[-1]
+
+
+def _recorded(inputs: list[int], then: list[int], switch_at: int) -> tuple[list[str], str]:
+    """A world recorded through `inputs`, then `then`, a lab switch at `switch_at`: the
+    replay's lines and the lines a file would have been given."""
+    world = World(seed=6)
+    recorder = ReplayRecorder(world, lines=True)
+    for tick, bits in enumerate([*inputs, *then]):
+        if tick == switch_at:
+            recorder.switch({"speed": tick})
+        world.step(bits)
+        recorder.tick(bits)
+    return list(recorder.finished().lines()), "".join(recorder.unsaved or [])
+
+
+def test_a_recordings_deep_copy_records_its_worlds_copy_apart_from_it():
+    """Copied with its world (as a state of the environment is), a recording records the
+    world's copy: each goes on with inputs of its own, a lab switch each, and ends with
+    the lines it would have had alone, its replay's and its unsaved ones. Fails with any
+    of its lists shared (the replay, the runs or switches since a checkpoint, the lines)."""
+    first = [tick // 7 % 3 for tick in range(130)]  # (a run open at the copy: tick 130)
+    ours, theirs = [1] * 50 + [2] * 20, [2] * 30 + [0] * 40
+    world = World(seed=6)
+    recorder = ReplayRecorder(world, lines=True)
+    for bits in first:
+        world.step(bits)
+        recorder.tick(bits)
+    world_copy, copied = copy.deepcopy((world, recorder))
+    assert copied.world is world_copy and copied.replay == recorder.replay
+    for w, r, inputs, switch_at in ((world, recorder, ours, 140),
+                                    (world_copy, copied, theirs, 150)):
+        for tick, bits in enumerate(inputs, start=len(first)):
+            if tick == switch_at:
+                r.switch({"speed": tick})
+            w.step(bits)
+            r.tick(bits)
+    assert (list(recorder.finished().lines()), "".join(recorder.unsaved or [])) == _recorded(
+        first, ours, 140)
+    assert (list(copied.finished().lines()), "".join(copied.unsaved or [])) == _recorded(
+        first, theirs, 150)
