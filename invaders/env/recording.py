@@ -26,11 +26,17 @@ from invaders.game.world import World
 
 
 class Episode(ReplayRecorder):
-    """One episode's recording: where it stops at a replay's limits, a warning says so."""
+    """One episode's recording, kept as its file's lines (each made once, as its checkpoint
+    is reached, where a replay kept would be made into lines again when written): where
+    it stops at a replay's limits, a warning says so."""
 
     def __init__(self, world: World, folder: Path, limit: int) -> None:
-        super().__init__(world, limit=limit)
+        super().__init__(world, limit=limit, keep=False, lines=True)
         self.folder = folder
+
+    def text(self) -> str:
+        """The file: the header, and the lines up to the last checkpoint."""
+        return self.replay.header_line() + "".join(self.unsaved or [])
 
     def _stop(self) -> None:
         super()._stop()
@@ -89,9 +95,9 @@ class EpisodeRecorder:
         episode, self.episode = self.episode, None
         if episode is None:
             return
-        replay = episode.finished()
+        episode.finished()  # (closed with a checkpoint where it stands)
         if not episode.ticks:
             return
         self.written += 1
-        name = f"episode-{self.written:05d}-seed-{replay.seed}.json"
-        write_new(self.folder / name, "".join(replay.lines()))  # (never over another's)
+        name = f"episode-{self.written:05d}-seed-{episode.replay.seed}.json"
+        write_new(self.folder / name, episode.text())  # (never over another's)
