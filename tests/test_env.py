@@ -647,7 +647,12 @@ def test_bad_options_are_refused_in_one_line():
                     {"repeat_action_probability": 2.0}, {"render_mode": "window"},
                     {"repeat_action_probability": "0.2"}, {"max_num_frames_per_episode": 1.5},
                     {"resize": (84, 84, 3)}, {"stack": 0}, {"stack": 4, "obs_type": "state"},
-                    {"mode": 1}, {"mode": "0"}, {"difficulty": 1}, {"difficulty": 0.0}):
+                    {"mode": 1}, {"mode": "0"}, {"difficulty": 1}, {"difficulty": 0.0},
+                    {"resize": 84, "obs_type": "grayscale"},
+                    {"resize": "84", "obs_type": "grayscale"},
+                    {"resize": (84.5, 84), "obs_type": "grayscale"},
+                    {"resize": (True, 84), "obs_type": "grayscale"},
+                    {"record": 123}, {"full_action_space": "yes"}):
         with pytest.raises(ValueError, match=next(iter(options))):
             SpaceInvadersEnv(**options)
 

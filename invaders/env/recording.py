@@ -61,8 +61,8 @@ class EpisodeRecorder:
         naming it), not after the first episode's play; None: no recording."""
         if record is None:
             return None
-        if not str(record):
-            raise ValueError("record '': a folder to write episodes in, or None")
+        if not isinstance(record, (str, os.PathLike)) or not str(record):
+            raise ValueError(f"record {record!r}: a folder to write episodes in, or None")
         folder = Path(record)
         folder.mkdir(parents=True, exist_ok=True)
         fd, tried = tempfile.mkstemp(prefix=".episode.", dir=folder)

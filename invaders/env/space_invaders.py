@@ -106,6 +106,8 @@ class SpaceInvadersEnv(gym.Env):
         _check_options(obs_type, frameskip, repeat_action_probability, render_mode, resize,
                        stack, max_num_frames_per_episode)
         _check_cartridge(mode, difficulty)
+        if not isinstance(full_action_space, (bool, np.bool_)):
+            raise ValueError(f"full_action_space {full_action_space!r}: True or False")
         self.obs_type, self.frameskip = obs_type, frameskip
         self.repeat_action_probability = repeat_action_probability
         self.max_num_frames_per_episode = max_num_frames_per_episode
@@ -380,8 +382,7 @@ def _check_options(obs_type: str, frameskip: Any, repeat_action_probability: Any
     if not (max_frames is None or isinstance(max_frames, int)):
         raise ValueError(f"max_num_frames_per_episode {max_frames!r}: a whole number (0 or "
                          "below, or None: no limit)")
-    if resize is not None and (obs_type != "grayscale" or len(resize) != 2
-                               or not all(1 <= n <= 224 for n in resize)):
+    if resize is not None and (obs_type != "grayscale" or not _valid_size(resize)):
         raise ValueError(f"resize {resize!r}: (height, width) up to 224, for grayscale")
     if not (isinstance(stack, int) and 1 <= stack <= 64) or (stack > 1 and obs_type == "state"):
         raise ValueError(f"stack {stack!r}: 1 to 64 pictures (not with the state)")
@@ -397,6 +398,13 @@ def _check_cartridge(mode: Any, difficulty: Any) -> None:
         if not (value is None or (isinstance(value, (int, np.integer)) and value == 0)):
             raise ValueError(f"{name} {value!r}: None or 0 (the arcade game has no "
                              "variations; ALE's are the 2600 cartridge's)")
+
+
+def _valid_size(size: Any) -> bool:
+    """Two whole numbers from 1 to 224, as a tuple or a list (a config file's)."""
+    return (isinstance(size, (tuple, list)) and len(size) == 2
+            and all(isinstance(n, (int, np.integer)) and not isinstance(n, bool)
+                    and 1 <= n <= 224 for n in size))
 
 
 def _valid_skip(frameskip: Any) -> bool:
