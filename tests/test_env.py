@@ -652,7 +652,8 @@ def test_bad_options_are_refused_in_one_line():
                     {"resize": "84", "obs_type": "grayscale"},
                     {"resize": (84.5, 84), "obs_type": "grayscale"},
                     {"resize": (True, 84), "obs_type": "grayscale"},
-                    {"record": 123}, {"full_action_space": "yes"}):
+                    {"record": 123}, {"full_action_space": "yes"}, {"frameskip": True},
+                    {"frameskip": (1, True)}):
         with pytest.raises(ValueError, match=next(iter(options))):
             SpaceInvadersEnv(**options)
 

@@ -408,11 +408,16 @@ def _valid_size(size: Any) -> bool:
 
 
 def _valid_skip(frameskip: Any) -> bool:
-    """A whole number from 1, or ALE's (low, high) range, drawn from per step."""
+    """A whole number from 1, or ALE's (low, high) range, drawn from per step (never a
+    bool: ALE refuses one too)."""
     if isinstance(frameskip, tuple):
-        return (len(frameskip) == 2 and all(isinstance(n, int) for n in frameskip)
+        return (len(frameskip) == 2 and all(_whole(n) for n in frameskip)
                 and 1 <= frameskip[0] < frameskip[1])
-    return isinstance(frameskip, int) and frameskip >= 1
+    return _whole(frameskip) and frameskip >= 1
+
+
+def _whole(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
 
 
 def _steps_a_second(frameskip: int | tuple[int, int]) -> int:
