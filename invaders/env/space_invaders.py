@@ -103,11 +103,9 @@ class SpaceInvadersEnv(gym.Env):
                  record: str | Path | None = None, resize: tuple[int, int] | None = None,
                  stack: int = 1, mode: int | None = None, difficulty: int | None = None
                  ) -> None:
-        _check_options(obs_type, frameskip, repeat_action_probability, render_mode, resize,
-                       stack, max_num_frames_per_episode)
+        _check_options(obs_type, frameskip, repeat_action_probability, full_action_space,
+                       render_mode, resize, stack, max_num_frames_per_episode)
         _check_cartridge(mode, difficulty)
-        if not isinstance(full_action_space, (bool, np.bool_)):
-            raise ValueError(f"full_action_space {full_action_space!r}: True or False")
         self.obs_type, self.frameskip = obs_type, frameskip
         self.repeat_action_probability = repeat_action_probability
         self.max_num_frames_per_episode = max_num_frames_per_episode
@@ -370,7 +368,8 @@ class SpaceInvadersEnv(gym.Env):
 
 
 def _check_options(obs_type: str, frameskip: Any, repeat_action_probability: Any,
-                   render_mode: str | None, resize: Any, stack: Any, max_frames: Any) -> None:
+                   full_action_space: Any, render_mode: str | None, resize: Any, stack: Any,
+                   max_frames: Any) -> None:
     """One ValueError naming the option, for a value the environment cannot take."""
     if obs_type not in OBS_TYPES:
         raise ValueError(f"obs_type {obs_type!r}: choose from {', '.join(OBS_TYPES)}")
@@ -379,6 +378,8 @@ def _check_options(obs_type: str, frameskip: Any, repeat_action_probability: Any
     if not (isinstance(repeat_action_probability, (int, float))
             and 0.0 <= repeat_action_probability <= 1.0):
         raise ValueError(f"repeat_action_probability {repeat_action_probability!r}: 0 to 1")
+    if not isinstance(full_action_space, (bool, np.bool_)):
+        raise ValueError(f"full_action_space {full_action_space!r}: True or False")
     if not (max_frames is None or isinstance(max_frames, int)):
         raise ValueError(f"max_num_frames_per_episode {max_frames!r}: a whole number (0 or "
                          "below, or None: no limit)")
@@ -417,6 +418,7 @@ def _valid_skip(frameskip: Any) -> bool:
 
 
 def _whole(value: Any) -> bool:
+    """An int, not a bool (which Python counts among them)."""
     return isinstance(value, int) and not isinstance(value, bool)
 
 
