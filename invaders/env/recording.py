@@ -25,7 +25,7 @@ from invaders.game.replay import MAX_FILE_BYTES
 from invaders.game.world import World
 
 
-class Episode(ReplayRecorder):
+class EpisodeRecording(ReplayRecorder):
     """One episode's recording, kept as its file's lines (each made once, as its checkpoint
     is reached, where a replay kept would be made into lines again when written): where
     it stops at a replay's limits, a warning says so."""
@@ -51,7 +51,7 @@ class EpisodeRecorder:
     def __init__(self, folder: Path, limit: int = MAX_FILE_BYTES) -> None:
         self.folder = folder
         self.limit = limit
-        self.episode: Episode | None = None  # None between episodes, once one is written
+        self.current: EpisodeRecording | None = None  # (None between episodes)
         self.written = 0
 
     @classmethod
@@ -78,26 +78,27 @@ class EpisodeRecorder:
     def begin(self, world: World) -> None:
         """A new episode of `world` (the last one written first, if it was not)."""
         self.save()
-        self.episode = Episode(world, self.folder, self.limit)
+        self.current = EpisodeRecording(world, self.folder, self.limit)
 
-    def follow(self, episode: Episode | None) -> None:
+    def follow(self, recording: EpisodeRecording | None) -> None:
         """Record on from a state gone back to: its recording so far, of its world (the
         episode in progress is dropped, not written: a search's every try would be)."""
-        self.episode = episode
+        self.current = recording
 
     def note(self, bits: int) -> None:
         """The tick just played, with these input bits."""
-        if self.episode is not None:  # (None: a state gone back to that was not recorded)
-            self.episode.tick(bits)
+        if self.current is not None:  # (None: a state gone back to that was not recorded)
+            self.current.tick(bits)
 
     def save(self) -> None:
         """Write the episode played so far (once; nothing if no tick was recorded)."""
-        episode, self.episode = self.episode, None
-        if episode is None:
+        recording, self.current = self.current, None
+        if recording is None:
             return
-        episode.finished()  # (closed with a checkpoint where it stands)
-        if not episode.ticks:
+        recording.finished()  # (closed with a checkpoint where it stands)
+        if not recording.ticks:
             return
         self.written += 1
-        name = f"episode-{self.written:05d}-seed-{episode.replay.seed}.json"
-        write_new(self.folder / name, episode.text())  # (never over another's)
+        name = f"episode-{self.written:05d}-seed-{recording.replay.seed}.json"
+        write_new(self.folder / name, recording.text())  # (never over another's)
+

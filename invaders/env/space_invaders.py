@@ -33,7 +33,7 @@ from invaders.env.observations import (
     Stack,
     StateObserver,
 )
-from invaders.env.recording import Episode, EpisodeRecorder
+from invaders.env.recording import EpisodeRecorder, EpisodeRecording
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG, SCREEN_H, SCREEN_W
 from invaders.game.events import Event
@@ -87,7 +87,7 @@ class EnvState:
     episode_frames: int
     frame_number: int
     stacked: np.ndarray | None
-    episode: Episode | None  # (with record: its recording so far)
+    recording: EpisodeRecording | None  # (with record: the episode's so far)
     draws: tuple | None  # (random.Random's state, with include_rng)
 
 
@@ -269,11 +269,11 @@ class SpaceInvadersEnv(gym.Env):
         skips: the same actions after a restore then give the same episode."""
         if self.world is None:
             raise RuntimeError("call reset() before clone_state()")
-        recording = None if self._recorder is None else self._recorder.episode
+        recording = None if self._recorder is None else self._recorder.current
         # (copied together: the recording's world is the world's copy)
-        world, episode = copy.deepcopy((self.world, recording))
+        world, recording = copy.deepcopy((self.world, recording))
         return EnvState(world, self._previous, self._episode_frames, self.frame_number,
-                        None if self._stack is None else self._stack.frames.copy(), episode,
+                        None if self._stack is None else self._stack.frames.copy(), recording,
                         self._draws.getstate() if include_rng else None)
 
     def restore_state(self, state: EnvState) -> None:
@@ -287,13 +287,13 @@ class SpaceInvadersEnv(gym.Env):
                                         or stacked.shape != self._stack.frames.shape):
             raise ValueError("restore_state: the state is of an environment that stacks "
                              "other pictures")
-        self.world, episode = copy.deepcopy((state.world, state.episode))
+        self.world, recording = copy.deepcopy((state.world, state.recording))
         self._previous, self._episode_frames = state.previous, state.episode_frames
         self.frame_number = state.frame_number
         if self._stack is not None and stacked is not None:  # (both, as checked above)
             self._stack.frames[:] = stacked
         if self._recorder is not None:
-            self._recorder.follow(episode)
+            self._recorder.follow(recording)
         if state.draws is not None:
             self._draws.setstate(state.draws)
 
