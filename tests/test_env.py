@@ -560,6 +560,32 @@ def test_an_environment_dropped_unclosed_writes_its_episode_and_so_does_its_copy
     assert list(longer.actions())[:200] == list(shorter.actions())
 
 
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="a fork is what this is about")
+def test_a_forked_process_never_writes_its_parents_episode(tmp_path):
+    """A process forked (as multiprocessing's workers are, on Linux) has a copy of the
+    parent's finalizers: an environment left for the garbage collector (in a cycle, as
+    reading `env.unwrapped.ale` makes one) and collected in the child writes nothing
+    there; the parent, collecting it, writes the episode once."""
+    env = SpaceInvadersEnv(obs_type="state", record=tmp_path)
+    env.reset(seed=2)
+    for _ in range(30):
+        env.step(1)
+    assert env.ale.lives() == 3  # (the view holds the environment: a cycle)
+    gc.disable()
+    try:
+        del env
+        pid = os.fork()
+        if pid == 0:  # the child: collects the environment, then ends at once
+            gc.collect()
+            os._exit(0)
+        assert os.waitpid(pid, 0)[1] == 0
+        assert list(tmp_path.glob("*.json")) == []
+    finally:
+        gc.enable()
+    gc.collect()
+    assert [load(f).ticks for f in tmp_path.glob("*.json")] == [120]
+
+
 def test_an_episode_past_a_replays_limits_is_recorded_up_to_them_with_a_warning(
         tmp_path, monkeypatch, capsys):
     """The input runs a replay may hold lowered to 30 (a million in the program, which an

@@ -17,6 +17,7 @@ import os
 import tempfile
 import warnings
 import weakref
+from collections.abc import Callable
 from pathlib import Path
 
 from invaders.atomic import write_new
@@ -73,7 +74,7 @@ class EpisodeRecorder:
     def watch(self, owner: object) -> None:
         """Write the episode in progress when `owner` (the environment recording) is
         dropped, or when the program ends with it still there, unless written by then."""
-        weakref.finalize(owner, self.save)  # (holds the recorder, never the owner)
+        on_drop(owner, self.save)
 
     def begin(self, world: World) -> None:
         """A new episode of `world` (the last one written first, if it was not)."""
@@ -102,3 +103,16 @@ class EpisodeRecorder:
         name = f"episode-{self.written:05d}-seed-{recording.replay.seed}.json"
         write_new(self.folder / name, recording.text())  # (never over another's)
 
+
+def on_drop(owner: object, callback: Callable[[], None]) -> None:
+    """Call `callback` when `owner` is dropped, or when the program ends with it still
+    there (`weakref.finalize`; the callback must not hold the owner), in this process
+    only: a process forked from this one has a copy of its finalizers, and must neither
+    write this process's episodes again nor close its games."""
+    pid = os.getpid()
+
+    def in_this_process() -> None:
+        if os.getpid() == pid:
+            callback()
+
+    weakref.finalize(owner, in_this_process)

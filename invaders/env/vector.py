@@ -13,7 +13,6 @@ draws and shrinks its games' grey pictures together (games.py).
 
 from __future__ import annotations
 
-import weakref
 from typing import Any, cast
 
 import numpy as np
@@ -22,6 +21,7 @@ from gymnasium.vector.utils import batch_space
 
 from invaders.engine.stats import STAT_FIELDS
 from invaders.env.games import ALE_NUMBERS, EVENTS_KEPT, NUMBERS, Games, Rows
+from invaders.env.recording import on_drop
 from invaders.env.space_invaders import SpaceInvadersEnv
 from invaders.env.workers import Pool
 from invaders.game.events import Event
@@ -63,7 +63,7 @@ class SpaceInvadersVectorEnv(VectorEnv):
         self._rows = self._games.rows
         # The games closed (their episodes in progress written, the workers ended) when
         # the vector is dropped or the program ends without closing it.
-        weakref.finalize(self, self._games.close)
+        on_drop(self, self._games.close)
 
     @property
     def envs(self) -> list[SpaceInvadersEnv]:
