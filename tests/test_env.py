@@ -610,6 +610,34 @@ def test_an_episode_past_a_replays_limits_is_recorded_up_to_them_with_a_warning(
     assert capsys.readouterr().out.startswith("ok ")
 
 
+def test_a_state_restored_in_another_environment_records_into_its_folder(tmp_path,
+                                                                          monkeypatch):
+    """A state cloned in one recording environment and restored in another: the episode
+    goes on in the other's folder, and its stop at a replay's limits (the runs' limit
+    lowered to 30, as above) is said naming that folder."""
+    import re
+
+    from invaders.game import recording
+
+    monkeypatch.setattr(recording, "MAX_RUNS", 30)
+    first, second = (SpaceInvadersEnv(obs_type="state", record=tmp_path / name,
+                                      repeat_action_probability=0.0)
+                     for name in ("first", "second"))
+    first.reset(seed=3)
+    second.reset(seed=4)
+    for i in range(20):
+        first.step(i % 6)
+    second.restore_state(first.clone_state())
+    said = f"recorded in {tmp_path / 'second'}: recording stopped at tick 120"
+    with pytest.warns(RuntimeWarning, match=re.escape(said)):
+        for i in range(20, 60):
+            second.step(i % 6)
+    first.close()
+    second.close()
+    assert [load(f).ticks for f in (tmp_path / "first").glob("*.json")] == [80]
+    assert [load(f).ticks for f in (tmp_path / "second").glob("*.json")] == [120]
+
+
 def test_a_worker_killed_is_said_at_the_next_step_and_closing_still_closes(tmp_path):
     from invaders.env.workers import WorkerEnded
 

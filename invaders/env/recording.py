@@ -83,7 +83,10 @@ class EpisodeRecorder:
 
     def follow(self, recording: EpisodeRecording | None) -> None:
         """Record on from a state gone back to: its recording so far, of its world (the
-        episode in progress is dropped, not written: a search's every try would be)."""
+        episode in progress is dropped, not written: a search's every try would be), into
+        this folder (a state may be another environment's)."""
+        if recording is not None:
+            recording.folder = self.folder
         self.current = recording
 
     def note(self, bits: int) -> None:
