@@ -66,7 +66,7 @@ class Recorder(ReplayRecorder):
         with writing(self.path, "replay", kept):
             if not self._started:
                 clean_stale(self.path)
-                write_atomic(self.path, self.replay.header_line() + "".join(unsaved))
+                write_atomic(self.path, self.file_text())
                 self._started = True
             elif unsaved:
                 with open(self.path, "a", encoding="utf-8") as handle:

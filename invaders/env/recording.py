@@ -35,10 +35,6 @@ class EpisodeRecording(ReplayRecorder):
         super().__init__(world, limit=limit, keep=False, lines=True)
         self.folder = folder
 
-    def text(self) -> str:
-        """The file: the header, and the lines up to the last checkpoint."""
-        return self.replay.header_line() + "".join(self.unsaved or [])
-
     def _stop(self) -> None:
         super()._stop()
         warnings.warn(f"invaders: an episode recorded in {self.folder}: {self.stopped}",
@@ -104,7 +100,7 @@ class EpisodeRecorder:
             return
         self.written += 1
         name = f"episode-{self.written:05d}-seed-{recording.replay.seed}.json"
-        write_new(self.folder / name, recording.text())  # (never over another's)
+        write_new(self.folder / name, recording.file_text())  # (never over another's)
 
 
 def on_drop(owner: object, callback: Callable[[], None]) -> None:

@@ -108,6 +108,11 @@ class ReplayRecorder:
             self._checkpoint()
         return self.replay
 
+    def file_text(self) -> str:
+        """The header and the lines not yet written (with `lines`): the whole file, while
+        none of it has been written."""
+        return self.replay.header_line() + "".join(self.unsaved or [])
+
     def _checkpoint(self) -> None:
         checkpoint = Checkpoint.of(self.world)
         line = segment_line(self._segment, checkpoint, self._switches)
