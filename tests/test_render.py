@@ -10,7 +10,7 @@ from invaders.app.render import Renderer
 from invaders.game import art
 from invaders.game.config import GameConfig, Speeds
 from invaders.game.events import Event
-from invaders.game.rack import pictures_apart
+from invaders.game.rack import ALIEN_HEIGHT, pictures_apart
 from invaders.game.world import Phase, World
 from invaders.lab.autopilot import Autopilot
 from invaders.lab.picture import Picture
@@ -348,6 +348,30 @@ def _aliens_share_a_pixel(world: World) -> bool:
             return True
         lit.draw(picture, (alien.x, alien.top))
     return False
+
+
+def test_the_rows_a_rack_may_cover_hold_every_live_alien_within_a_drop_each_way():
+    """The kept rack is laid over the rows `Rack.picture_rows` gives: every drawn alien's
+    picture lies in them at every tick of whole games (waves, kills, deaths, two
+    players), and once the whole rack is drawn the band is the aliens' own rows, or a
+    drop more: above, while the top row stands where the reference is (it allows for its
+    being a drop higher), or below, at the end of a pass that dropped the reference,
+    before the bottom row is drawn there."""
+    slacks: set[tuple[int, int]] = set()
+    for seed in range(2):
+        world, pilot = World(seed=seed, players=2), Autopilot(seed, "expert")
+        drop = world.config.speeds.rack_drop
+        for _ in range(12000):
+            world.step(pilot.actions(world))
+            drawn, (top, bottom) = world.rack.live_aliens(), world.rack.picture_rows()
+            if not drawn:
+                continue
+            highest = min(alien.top for alien in drawn)
+            lowest = max(alien.top for alien in drawn) + ALIEN_HEIGHT
+            assert top <= highest and lowest <= bottom, world.tick
+            if len(drawn) == world.rack.live:
+                slacks.add((highest - top, bottom - lowest))
+    assert slacks == {(0, 0), (drop, 0), (0, drop)}
 
 
 def test_a_racks_aliens_share_no_pixel_exactly_where_pictures_apart_says_so():

@@ -14,6 +14,8 @@ from invaders.game import art
 from invaders.game.config import GameConfig
 from invaders.game.entities import ALIEN_MASKS, FOOTPRINT_ABOVE, Alien
 
+ALIEN_HEIGHT = max(len(picture) for pictures in art.ALIEN_BY_ROW for picture in pictures)
+
 
 @mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class Rack:
@@ -123,6 +125,19 @@ class Rack:
         at = bisect_left(live, self.cursor)
         return [live[at - back] for back in range(1, count + 1)]  # (a negative index wraps)
 
+    def picture_rows(self) -> tuple[int, int]:
+        """The screen rows the live aliens' pictures may cover, from the first to the one
+        past the last (none with no live alien). Each was drawn at the reference as it is
+        or as it was before its last move (a step, or at an edge a drop): the highest
+        live row's may still stand a drop higher, the lowest's is lowest where it is now."""
+        live = self._live_indices
+        if not live:
+            return 0, 0
+        cols, cell = self.config.geometry.cols, self.config.geometry.cell
+        highest, lowest = live[-1] // cols, live[0] // cols  # (row 0 is the bottom one)
+        return (self.ref_top - cell * highest - self.config.speeds.rack_drop,
+                self.ref_top - cell * lowest + ALIEN_HEIGHT)
+
     def next_index(self) -> int | None:
         """The index of the alien the next step draws (None with no live aliens)."""
         live = self._live_indices
@@ -197,6 +212,5 @@ def pictures_apart(config: GameConfig) -> bool:
     a cell apart, at most a drop out of line, so a picture's height and the drop must."""
     g, s = config.geometry, config.speeds
     widest = max(hi - lo + 1 for lo, hi in art.ALIEN_LIT_COLUMNS.values())
-    height = max(len(picture) for pictures in art.ALIEN_BY_ROW for picture in pictures)
     step = max(s.rack_step, s.rack_step_last_right)
-    return widest + step <= g.cell and height + s.rack_drop <= g.cell
+    return widest + step <= g.cell and ALIEN_HEIGHT + s.rack_drop <= g.cell

@@ -3,14 +3,15 @@
 A frame of the game moves one alien (the rack draws one a tick), yet a picture drawn
 afresh blits all 55. The layer keeps them drawn: each alien the rack's watch names
 (those drawn since the last frame) is taken out where it was, its lit pixels drawn
-black, and put in where it is; then the rows the aliens cover are laid over the picture
-by a bitwise or. Every lit pixel is white, so the or is the aliens drawn over the
-picture; and while no two aliens share a lit pixel (`rack.pictures_apart`) taking one out
-leaves the others whole. The environment's grey picture took 30.7 against 36.6 us, its RGB
-one 43.1 against 48.3 (a script, the same frames in turn); a grey step 1.11 times as fast,
-an RGB one 1.05 (21 rounds in turn, fresh processes). The erasers and pictures go in one
-call (`fblits`), in the same order: compiled, an RGB step 1.05 times as fast as with a
-call each, a grey one 1.06 (12 rounds in turn, fresh processes).
+black, and put in where it is; then the rows the live aliens may cover
+(`Rack.picture_rows`) are laid over the picture by a bitwise or. Every lit pixel is
+white, so the or is the aliens drawn over the picture; and while no two aliens share a
+lit pixel (`rack.pictures_apart`) taking one out leaves the others whole. The
+environment's grey picture took 30.7 against 36.6 us, its RGB one 43.1 against 48.3 (a
+script, the same frames in turn); a grey step 1.11 times as fast, an RGB one 1.05 (21
+rounds in turn, fresh processes). The erasers and pictures go in one call (`fblits`), in
+the same order: compiled, an RGB step 1.05 times as fast as with a call each, a grey one
+1.06 (12 rounds in turn, fresh processes).
 """
 
 from __future__ import annotations
@@ -46,7 +47,6 @@ class RackLayer:
         self.erasers = tuple(tuple(map(self._eraser, frames)) for frames in art.ALIEN_BY_ROW)
         self.watch = RackWatch()
         self.shown: dict[int, tuple[pygame.Surface, tuple[int, int]]] = {}  # eraser, corner
-        self.rows = (0, 0)  # from the highest alien's top to the lowest one's bottom
 
     def _eraser(self, picture: art.Art) -> pygame.Surface:
         """A picture's lit pixels in black, the rest keyed out, in the layer's format:
@@ -61,14 +61,13 @@ class RackLayer:
         return eraser
 
     def draw(self, rack: Rack, canvas: np.ndarray) -> None:
-        """The rack's aliens as they are, or'd into the picture's array."""
+        """The rack's aliens as they are, or'd into the picture's array over the rows
+        they may cover (`Rack.picture_rows`)."""
         aliens, shown = rack.aliens, self.shown
         places = self.watch.changed(rack)
         if len(places) == len(aliens):
             self.array.fill(0)
             shown.clear()
-            self.rows = (canvas.shape[0], 0)
-        top, bottom = self.rows
         blits: list[tuple[pygame.Surface, tuple[int, int]]] = []  # in order, in one call
         for index in places:
             was = shown.pop(index, None)
@@ -77,13 +76,10 @@ class RackLayer:
             alien = aliens[index]
             if alien is not None and alien.alive:
                 corner = (alien.x, alien.y + FOOTPRINT_ABOVE)
-                sprite = self.sprites[alien.row][alien.frame]
-                blits.append((sprite, corner))
+                blits.append((self.sprites[alien.row][alien.frame], corner))
                 shown[index] = (self.erasers[alien.row][alien.frame], corner)
-                top = min(top, corner[1])
-                bottom = max(bottom, corner[1] + sprite.get_height())
         self.surface.fblits(blits)
-        self.rows = (top, bottom)
+        top, bottom = rack.picture_rows()
         top, bottom = max(top, 0), min(bottom, canvas.shape[0])
         if top < bottom:
             band = canvas[top:bottom]
