@@ -129,7 +129,10 @@ def segment_line(runs: list[list[int]], checkpoint: Checkpoint,
     data: dict[str, Any] = {"inputs": runs}
     if switches:
         data["lab"] = [[tick, choice] for tick, choice in switches]
-    data["checkpoint"] = dataclasses.asdict(checkpoint)
+    # Its fields as they are, written out at once (`dataclasses.asdict` copies each value
+    # deeply: 28 against 1.2 us a checkpoint, a script).
+    data["checkpoint"] = {field.name: getattr(checkpoint, field.name)
+                          for field in dataclasses.fields(checkpoint)}
     return _line(data)
 
 
