@@ -218,7 +218,7 @@ def _display_without_server() -> int:
 
 
 def test_the_c_librarys_stderr_comes_back_after_the_quiet_part():
-    code = ("import os, sys\nfrom invaders.app.quiet import c_stderr_quiet\n"
+    code = ("import os, sys\nfrom invaders.quiet import c_stderr_quiet\n"
             "with c_stderr_quiet():\n    os.write(2, b'chatter\\n')\n"
             "os.write(2, b'after\\n'); print('python', file=sys.stderr)")
     assert _stderr_of(code) == "after\npython\n"

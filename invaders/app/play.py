@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import contextlib
 import io
-import os
 import sys
 import time
 import warnings
@@ -20,13 +19,13 @@ from invaders.app.attract import Attract, card, demo_world
 from invaders.app.labpanel import LabControl, PanelPainter, draw_marks, panel_width
 from invaders.app.loop import FixedStepLoop
 from invaders.app.outputs import writing
-from invaders.app.quiet import c_stderr_quiet
 from invaders.app.recording import Recorder
 from invaders.app.render import CandidateWatch, Renderer
 from invaders.app.signals import StopSignals
 from invaders.app.sound import SoundBoard
 from invaders.app.splash import FPS
 from invaders.atomic import atomic_writer
+from invaders.display import open_display
 from invaders.engine.adaptive import DEFAULT_BROADPHASE
 from invaders.game.actions import Action
 from invaders.game.config import SCREEN_H, SCREEN_W
@@ -332,28 +331,9 @@ class Session:
         return f"DIFFERS FROM TICK {self.first_difference}"
 
 
-NO_WINDOW_DRIVERS = ("dummy", "offscreen")
-
-
 def open_window(scale: int, title: str = "invaders", lab: bool = False) -> pygame.Surface:
-    """A window, or pygame.error if SDL could only find a driver that shows none (it falls
-    back to one silently when there is no display; asking for it by name is allowed)."""
-    asked = os.environ.get("SDL_VIDEODRIVER")
-    if (asked is None and sys.platform.startswith("linux")
-            and not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY")):
-        raise pygame.error("no display: neither DISPLAY nor WAYLAND_DISPLAY is set")
-    # The window's picture is a plain surface: SDL shows it through the native framebuffer
-    # (X11's shared memory) rather than uploading it to a renderer each frame, which
-    # without a GPU (Mesa's llvmpipe, Xvfb) costs 7 ms of CPU a frame at scale 3, against
-    # 0.06 ms. Set the variable to choose otherwise.
-    os.environ.setdefault("SDL_FRAMEBUFFER_ACCELERATION", "0")
-    with c_stderr_quiet():  # (SDL's drivers probed in turn say why each is not there)
-        pygame.display.init()
-    driver = pygame.display.get_driver()
-    if driver in NO_WINDOW_DRIVERS and asked != driver:
-        pygame.display.quit()
-        raise pygame.error(f"no display: SDL fell back to its '{driver}' driver, which "
-                           "shows no window")
+    """A window, or pygame.error if there is no display to show one (`open_display`)."""
+    open_display()
     width = SCREEN_W * scale + (panel_width(scale) if lab else 0)
     window = pygame.display.set_mode((width, SCREEN_H * scale), pygame.RESIZABLE)
     pygame.display.set_caption(f"{title}  (arrows/A D move, space fires, P pause, "

@@ -14,10 +14,10 @@ from __future__ import annotations
 import numpy as np
 import pygame
 
-from invaders.app.quiet import c_stderr_quiet
 from invaders.game.entities import CannonState
 from invaders.game.events import Event
 from invaders.game.world import Phase
+from invaders.quiet import c_stderr_quiet
 
 RATE = 22050
 MARCH = (98.0, 87.0, 78.0, 73.0)  # the four descending bass notes, in Hz
