@@ -808,6 +808,27 @@ def test_human_rendering_shows_each_step_in_a_window_three_times_the_size():
     assert not pygame.display.get_init()
 
 
+@pytest.mark.parametrize(("driver", "why"), [
+    (None, "neither DISPLAY nor WAYLAND_DISPLAY is set"),  # SDL would fall back: refused
+    ("x11", "x11 not available"),  # asked for by name, and SDL cannot open it
+])
+def test_human_rendering_without_a_display_says_so_at_reset(driver: str | None, why: str):
+    """Where no window can be seen, reset in human mode raises a pygame.error naming the
+    mode and why (not a window opened on SDL's 'offscreen' driver, shown nowhere)."""
+    code = ("import gymnasium, pygame, invaders.env\n"
+            f"env = gymnasium.make({ENV_ID!r}, obs_type='state', render_mode='human')\n"
+            "try:\n    env.reset(seed=0)\n"
+            "except pygame.error as error:\n    print(error)")
+    env = {key: value for key, value in os.environ.items()
+           if key not in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER")}
+    if driver is not None:
+        env["SDL_VIDEODRIVER"] = driver
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True, env=env, timeout=60)
+    assert done.stdout.startswith("render_mode 'human' shows a window, and cannot here")
+    assert why in done.stdout
+
+
 def test_the_window_shows_the_game_at_its_own_speed():
     """In the window each step takes its frames' time at 60 a second (the clock asked for
     60 / frames steps a second), as ALE's human mode runs at the game's speed; `render_fps`,

@@ -23,6 +23,7 @@ import numpy as np
 import pygame
 from gymnasium import spaces
 
+from invaders.display import open_display
 from invaders.engine.stats import STAT_FIELDS
 from invaders.env.ale_view import AleView
 from invaders.env.observations import (
@@ -357,7 +358,11 @@ class SpaceInvadersEnv(gym.Env):
 
     def _show(self, picture: np.ndarray) -> None:
         if self._window is None:
-            pygame.display.init()
+            try:
+                open_display()
+            except pygame.error as error:
+                raise pygame.error(f"render_mode 'human' shows a window, and cannot here "
+                                   f"({error}): 'rgb_array' gives its pictures") from None
             self._window = pygame.display.set_mode((SCREEN_W * 3, SCREEN_H * 3))
             pygame.display.set_caption("invaders: SpaceInvaders-v0")
             self._clock = pygame.time.Clock()
