@@ -23,6 +23,7 @@ import pygame
 import pytest
 from gymnasium.utils import seeding
 from gymnasium.utils.env_checker import check_env, data_equivalence
+from gymnasium.wrappers.vector import HumanRendering
 
 import invaders.env  # noqa: F401  (registers the id)
 from invaders.app.cli import main
@@ -1121,6 +1122,27 @@ def test_a_workers_failure_is_raised_in_the_caller_and_bad_actions_and_counts_re
         with pytest.raises(ValueError, match=r"workers|render_mode"):
             gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
                                obs_type="state", **bad)
+
+
+def test_the_batch_is_watched_through_gymnasiums_wrapper_not_a_window_of_its_own():
+    """A vector environment should not draw a window itself (Gymnasium's own tests say
+    so): the native batch refuses render_mode 'human', saying how to watch it (it showed
+    its games' first pictures, then never another); made with 'rgb_array', Gymnasium's
+    HumanRendering shows its game's picture after each step, at the pace the batch gives
+    (`render_fps`: the wrapper refused a batch without it)."""
+    with pytest.raises(ValueError, match=r"render_mode 'human'.*HumanRendering"):
+        gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
+                           obs_type="state", render_mode="human")
+    batch = gymnasium.make_vec(ENV_ID, num_envs=1, vectorization_mode="vector_entry_point",
+                               obs_type="state", render_mode="rgb_array", frameskip=3)
+    watched = HumanRendering(batch)
+    watched.reset(seed=4)
+    for action in (1, 2, 2):
+        watched.step(np.array([action]))
+        shown = pygame.surfarray.array3d(pygame.display.get_surface()).transpose(1, 0, 2)
+        assert np.array_equal(shown, _picture_in_the_window(batch.envs[0].world))
+    assert watched.metadata["render_fps"] == 20  # (60 frames a second, 3 a step)
+    watched.close()
 
 
 def test_the_reward_is_the_points_scored_across_the_counters_wrap_at_10000():

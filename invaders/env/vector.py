@@ -45,7 +45,14 @@ class SpaceInvadersVectorEnv(VectorEnv):
             raise ValueError(f"workers {workers!r}: a whole number from 1 to num_envs")
         if workers > 1 and options.get("render_mode") is not None:
             raise ValueError("render_mode: games on workers are not drawn for the caller")
+        if options.get("render_mode") == "human":  # (a vector should not, says Gymnasium)
+            raise ValueError("render_mode 'human': the batch opens no window; make it with "
+                             "'rgb_array' and wrap it in gymnasium.wrappers.vector."
+                             "HumanRendering to watch its games")
         single = SpaceInvadersEnv(**options)  # (checks the options here, in one line)
+        # (the steps a second its games show, which Gymnasium's HumanRendering reads)
+        self.metadata = {**self.metadata, "render_modes": ["rgb_array"],
+                         "render_fps": single.metadata["render_fps"]}
         self.num_envs, self.copy = num_envs, copy
         self.single_observation_space = single.observation_space
         self.single_action_space = single.action_space
