@@ -1105,12 +1105,18 @@ def test_a_workers_spill_of_any_size_arrives_without_a_wait(monkeypatch):
     envs.close()
 
 
-def test_a_workers_failure_is_raised_in_the_caller_and_bad_actions_and_counts_refused():
+def test_a_workers_failure_is_raised_in_the_caller_and_bad_steps_and_counts_refused():
     envs = gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
                               workers=2, obs_type="state")
     with pytest.raises(RuntimeError, match=r"a games worker failed: .*[Ss]eed"):
         envs.reset(seed=[1, -1])  # (the second worker's game refuses a negative seed)
     envs.close()
+    for workers in (1, 2):  # (as the single environment: a RuntimeError, not a game's)
+        envs = gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
+                                  obs_type="state", workers=workers)
+        with pytest.raises(RuntimeError, match=r"call reset\(\) before step\(\)"):
+            envs.step(np.array([0, 0]))
+        envs.close()
     envs = gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
                               obs_type="state")
     envs.reset(seed=0)

@@ -68,6 +68,7 @@ class SpaceInvadersVectorEnv(VectorEnv):
         else:
             self._games = Pool(num_envs, workers, options, shape, dtype, context)
         self._rows = self._games.rows
+        self._begun = False  # (reset yet)
         # The games closed (their episodes in progress written, the workers ended) when
         # the vector is dropped or the program ends without closing it.
         on_drop(self, self._games.close)
@@ -88,10 +89,13 @@ class SpaceInvadersVectorEnv(VectorEnv):
         if len(seeds) != self.num_envs:
             raise ValueError(f"{len(seeds)} seeds for {self.num_envs} games")
         self._games.reset(list(seeds))
+        self._begun = True
         return self._out(self._rows.obs), self._infos()
 
     def step(self, actions: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                                           dict[str, Any]]:
+        if not self._begun:
+            raise RuntimeError("call reset() before step()")
         actions = np.asarray(actions)
         if (actions.shape != (self.num_envs,) or actions.dtype.kind not in "iu"
                 or actions.min() < 0 or actions.max() >= self._action_count):
