@@ -1130,6 +1130,27 @@ def test_a_workers_failure_is_raised_in_the_caller_and_bad_steps_and_counts_refu
                                obs_type="state", **bad)
 
 
+@pytest.mark.parametrize(("mode", "options", "refuses"), [
+    ("async", {}, True), ("vector_entry_point", {"workers": 2}, True),
+    ("sync", {}, False), ("vector_entry_point", {}, False)])
+def test_a_closed_batch_goes_on_as_gymnasiums_vector_of_its_kind(mode, options, refuses):
+    """Closed, a batch on workers refuses to step or reset with Gymnasium's
+    ClosedEnvironmentError, as Gymnasium's async vector (its workers have ended too; they
+    raised a zip's ValueError and a claim of an interrupted step); one in a single process
+    plays on, as Gymnasium's sync vector does."""
+    envs = gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode=mode, obs_type="state",
+                              **options)
+    envs.reset(seed=0)
+    envs.close()
+    for step in (True, False):
+        if refuses:
+            with pytest.raises(gymnasium.error.ClosedEnvironmentError):
+                envs.step(np.array([1, 1])) if step else envs.reset(seed=1)
+        else:
+            went = envs.step(np.array([1, 1])) if step else envs.reset(seed=1)
+            assert went[0].shape == (2, STATE_SIZE)
+
+
 def test_the_batch_is_watched_through_gymnasiums_wrapper_not_a_window_of_its_own():
     """A vector environment should not draw a window itself (Gymnasium's own tests say
     so): the native batch refuses render_mode 'human', saying how to watch it (it showed

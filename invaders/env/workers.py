@@ -20,6 +20,7 @@ from multiprocessing.connection import Connection
 from typing import Any
 
 import numpy as np
+from gymnasium.error import ClosedEnvironmentError
 
 from invaders.env.games import EVENT_COUNT, EVENTS_KEPT, Games, Rows
 from invaders.game.events import Event
@@ -127,6 +128,7 @@ class Pool:
         self._here = Games(self._mine, _share(self.rows, 0, self._mine), options)
         self.spilled: dict[int, list[int]] = {}  # the last step's, as `Games.spilled`
         self._waiting = False  # a command sent whose answers were not all taken
+        self._closed = False
         try:
             self._ask("start", [None] * len(others))
         except RuntimeError:
@@ -147,6 +149,7 @@ class Pool:
     def close(self) -> None:
         """Every game closed (an episode being recorded is written); the workers end. A
         worker that has ended already is let be (its failure was raised when it showed)."""
+        self._closed = True
         if not self._workers:
             return
         try:
@@ -163,9 +166,13 @@ class Pool:
             self._workers = []
 
     def _check_answered(self) -> None:
-        """Refuse to go on after a command whose answers were not all taken (Ctrl-C while
-        waiting, say): a worker may still be writing, and its answer would be taken for
-        the next command's."""
+        """Refuse to go on once closed (the workers have ended, as Gymnasium's async vector
+        does), or after a command whose answers were not all taken (Ctrl-C while waiting,
+        say): a worker may still be writing, and its answer would be taken for the next
+        command's."""
+        if self._closed:
+            raise ClosedEnvironmentError("the games' workers have ended at close(): make "
+                                         "another vector")
         if self._waiting:
             raise RuntimeError("a step of the games was interrupted before every worker "
                                "answered: close this vector and make another")
