@@ -136,12 +136,12 @@ class Pool:
             raise
 
     def reset(self, seeds: list[int | None]) -> None:
-        self._check_answered()
+        self._check_usable()
         self._ask("reset", [seeds[start:stop] for start, stop in self._shares],
                   lambda: self._here.reset(seeds[:self._mine]))
 
     def step(self, actions: list[int]) -> None:
-        self._check_answered()
+        self._check_usable()
         self._actions[:] = actions
         self._ask("step", [None] * len(self._workers),
                   lambda: self._here.step(actions[:self._mine]))
@@ -165,7 +165,7 @@ class Pool:
                     worker.process.terminate()
             self._workers = []
 
-    def _check_answered(self) -> None:
+    def _check_usable(self) -> None:
         """Refuse to go on once closed (the workers have ended, as Gymnasium's async vector
         does), or after a command whose answers were not all taken (Ctrl-C while waiting,
         say): a worker may still be writing, and its answer would be taken for the next
