@@ -401,7 +401,8 @@ def test_a_state_pickled_is_restored_in_another_process_and_plays_the_same(tmp_p
 def test_a_state_restored_without_the_generator_leaves_the_environments_own():
     """As ALE's (include_rng=False): without sticky actions and with a fixed frame skip the
     steps from the state are the same again; the generator goes on where it was. Restored
-    before a reset, or where the frames stacked cannot be the state's: refused."""
+    before a reset, where the frames stacked cannot be the state's, or not a state at all:
+    refused, naming why."""
     env = SpaceInvadersEnv(obs_type="state", repeat_action_probability=0.0)
     env.reset(seed=9)
     state, actions = env.clone_state(), [random.Random(1).randrange(6) for _ in range(300)]
@@ -415,6 +416,9 @@ def test_a_state_restored_without_the_generator_leaves_the_environments_own():
     stacking.reset(seed=9)
     with pytest.raises(ValueError, match="stacks other pictures"):
         stacking.restore_state(state)
+    for wrong in (None, state.world, vars(state)):
+        with pytest.raises(TypeError, match="is not a state clone_state gave"):
+            env.restore_state(wrong)
 
 
 def test_recording_never_writes_over_an_episode_already_there(tmp_path):

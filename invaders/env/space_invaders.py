@@ -283,6 +283,9 @@ class SpaceInvadersEnv(gym.Env):
         each time). A state without the generator leaves this one as it is, as ALE's."""
         if self.world is None:
             raise RuntimeError("call reset() before restore_state()")
+        if not isinstance(state, EnvState):
+            raise TypeError(f"restore_state: {type(state).__name__} is not a state "
+                            "clone_state gave")
         stacked = state.stacked
         if self._stack is not None and (stacked is None
                                         or stacked.shape != self._stack.frames.shape):
