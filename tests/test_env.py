@@ -715,6 +715,8 @@ def test_bad_options_are_refused_in_one_line():
                     {"frameskip": (1, True)}):
         with pytest.raises(ValueError, match=next(iter(options))):
             SpaceInvadersEnv(**options)
+    with pytest.raises(ValueError, match="for ALE's RAM, 'state': the game's objects"):
+        SpaceInvadersEnv(obs_type="ram")  # (ALE's RAM: training code may ask for it)
 
 
 @pytest.mark.parametrize("cartridge", [{"mode": None, "difficulty": None},

@@ -380,7 +380,8 @@ def _check_options(obs_type: str, frameskip: Any, repeat_action_probability: Any
                    max_frames: Any) -> None:
     """One ValueError naming the option, for a value the environment cannot take."""
     if obs_type not in OBS_TYPES:
-        raise ValueError(f"obs_type {obs_type!r}: choose from {', '.join(OBS_TYPES)}")
+        instead = " (for ALE's RAM, 'state': the game's objects)" if obs_type == "ram" else ""
+        raise ValueError(f"obs_type {obs_type!r}: choose from {', '.join(OBS_TYPES)}{instead}")
     if not _valid_skip(frameskip):
         raise ValueError(f"frameskip {frameskip!r}: a whole number >= 1 or (low, high)")
     if not (isinstance(repeat_action_probability, (int, float))
