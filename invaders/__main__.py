@@ -1,5 +1,6 @@
-"""`python -m invaders` is `invaders play`; the `invaders` command starts here too, so that
-a Ctrl-C while the program is still loading is one line, as everywhere else."""
+"""`python -m invaders` is the `invaders` command (which plays when no command is named);
+the command starts here too, so that a Ctrl-C while the program is still loading is one
+line, as everywhere else."""
 
 import sys
 
@@ -14,4 +15,4 @@ def run(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(run(["play", *sys.argv[1:]]))
+    sys.exit(run())

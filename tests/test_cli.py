@@ -140,9 +140,11 @@ def test_play_without_a_display_is_one_line():
     assert "cannot open a window" in result.stderr
 
 
-def test_the_installed_command_runs_headless():
-    script = Path(sys.executable).with_name("invaders")
-    result = subprocess.run([str(script), "run", "--ticks", "200", "--seed", "3"],
+@pytest.mark.parametrize("command", [[str(Path(sys.executable).with_name("invaders"))],
+                                     [sys.executable, "-m", "invaders"]])
+def test_the_installed_command_runs_headless(command):
+    """The command, or `python -m invaders` (the same program: a command named plays it)."""
+    result = subprocess.run([*command, "run", "--ticks", "200", "--seed", "3"],
                             capture_output=True, text=True, timeout=120, check=False)
     assert result.returncode == 0, result.stderr
     assert HEX.match(result.stdout.strip().splitlines()[-1])
