@@ -111,7 +111,11 @@ class SpaceInvadersVectorEnv(VectorEnv):
         return tuple(cast(np.ndarray, env.render()) for env in self.envs)  # (rgb_array's)
 
     def close_extras(self, **kwargs: Any) -> None:
-        self._games.close()
+        # (no games where __init__ refused its options: Gymnasium 1.1 closes every vector
+        # dropped, made whole or not)
+        games = getattr(self, "_games", None)
+        if games is not None:
+            games.close()
 
     def _out(self, array: np.ndarray) -> np.ndarray:
         return array.copy() if self.copy else array
