@@ -1071,6 +1071,50 @@ def test_the_native_vectors_events_past_what_its_rows_keep_are_given_whole(worke
     sync.close()
 
 
+@pytest.mark.parametrize("workers", [1, 2])
+@pytest.mark.parametrize("options", [{"obs_type": "state"},
+                                     {"obs_type": "grayscale", "resize": (84, 84), "stack": 2}],
+                         ids=["state", "grayscale-84x84x2"])
+def test_the_native_vector_resets_some_games_as_gymnasiums_sync_one(options, workers):
+    """Gymnasium's partial reset (`options["reset_mask"]`): only the games named start
+    anew, the others' observations stay (stacks too) and the infos are the reset games'
+    alone; a game that ended and is not named still resets at the next step. The same
+    as the sync vector's, step for step, across episode ends."""
+    options = {**options, "max_num_frames_per_episode": 400}
+    native = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
+                                workers=workers, **options)
+    sync = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="sync", **options)
+    with pytest.raises(RuntimeError, match="reset every game before some"):
+        native.reset(options={"reset_mask": np.array([True, False, True])})
+    for venv in (native, sync):
+        venv.reset(seed=3)
+    rng, partial, left = np.random.default_rng(3), 0, 0
+    for step in range(260):
+        (o1, r1, t1, u1, i1), (o2, r2, t2, u2, i2) = (
+            venv.step(actions) for actions in [rng.integers(0, 6, 3)] for venv in (native, sync))
+        assert np.array_equal(o1, o2) and np.array_equal(r1, r2)
+        assert np.array_equal(t1, t2) and np.array_equal(u1, u2)
+        assert i1.keys() == i2.keys() and all(_same(i1[k], i2[k]) for k in i1)
+        ended = t1 | u1
+        if ended.any() or step % 37 == 36:  # (in turn, the ended games or the others)
+            which = (ended if partial % 2 else ~ended) if ended.any() else rng.random(3) < 0.5
+            which[step % 3] |= not which.any()
+            left += int((ended & ~which).sum())  # (these reset at the next step)
+            (o1, i1), (o2, i2) = (venv.reset(seed=step, options={"reset_mask": which.copy()})
+                                  for venv in (native, sync))
+            assert np.array_equal(o1, o2) and i1.keys() == i2.keys()
+            assert all(_same(i1[k], i2[k]) for k in i1) and list(i1["_seed"]) == list(which)
+            partial += 1
+    assert partial >= 8 and left >= 2
+    # (refused as Gymnasium's vectors refuse it, of 1.4: those of 1.1 asserted instead)
+    for bad, error in ((np.array([1, 0, 1]), TypeError), ([True, False, True], TypeError),
+                       (np.array([True, False]), ValueError), (np.zeros(3, bool), ValueError)):
+        with pytest.raises(error, match="reset_mask"):
+            native.reset(options={"reset_mask": bad})
+    native.close()
+    sync.close()
+
+
 @pytest.mark.parametrize("options", [{"obs_type": "state"},
                                      {"obs_type": "state", "context": "spawn"},
                                      {"obs_type": "grayscale", "resize": (84, 84), "stack": 2}],

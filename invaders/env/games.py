@@ -76,18 +76,20 @@ class Games:
         # The last step's events of the games whose count is past EVENTS_KEPT, by game.
         self.spilled: dict[int, list[Event]] = {}
 
-    def reset(self, seeds: list[int | None]) -> None:
+    def reset(self, seeds: list[int | None], which: list[bool] | None = None) -> None:
+        """Every game anew, or those `which` names: the others' rows are left as they are
+        (a game that had ended still resets at the next step)."""
         rows = self.rows
+        anew = np.ones(len(self.envs), np.bool_) if which is None else np.array(which)
         self.spilled = {}
-        notes = []
         for i, (env, seed) in enumerate(zip(self.envs, seeds, strict=True)):
-            env.reset(seed=seed)
-            self._observe(i, env, first=True)
-            notes.append(self._note(i, env, []))
-        rows.numbers[:] = notes
-        self._shrunk(np.ones(len(self.envs), np.bool_))
-        rows.rewards[:] = 0.0
-        rows.terminated[:] = rows.truncated[:] = rows.ended[:] = False
+            if anew[i]:
+                env.reset(seed=seed)
+                self._observe(i, env, first=True)
+                rows.numbers[i] = self._note(i, env, [])
+        self._shrunk(anew, stepped=False)
+        rows.rewards[anew] = 0.0
+        rows.terminated[anew] = rows.truncated[anew] = rows.ended[anew] = False
 
     def step(self, actions: list[int]) -> None:
         """One step of every game (actions already checked): every game's frames first,
@@ -128,18 +130,21 @@ class Games:
             assert env.world is not None
             self._pixels.tint_into(env.world, self._shrink.picture(i), slot=i)
 
-    def _shrunk(self, first: np.ndarray) -> None:
+    def _shrunk(self, first: np.ndarray, stepped: bool = True) -> None:
         """The games' grey pictures made smaller, each the newest of its game's stack (a
-        game's first fills its stack, as a reset does)."""
+        game's first fills its stack, as a reset does); after a reset (not `stepped`),
+        only the `first` games' are written."""
         if self._shrink is None:
             return
         small, obs = self._shrink.shrink(), self.rows.obs
-        if obs.ndim == small.ndim:  # (no stack)
+        stacked = obs.ndim > small.ndim
+        if stepped and not stacked:
             obs[:] = small
             return
-        obs[:, :-1] = obs[:, 1:]
-        obs[:, -1] = small
-        obs[first] = small[first][:, None]
+        if stepped:
+            obs[:, :-1] = obs[:, 1:]
+            obs[:, -1] = small
+        obs[first] = small[first][:, None] if stacked else small[first]
 
     def close(self) -> None:
         for env in self.envs:

@@ -82,15 +82,19 @@ class SpaceInvadersVectorEnv(VectorEnv):
 
     def reset(self, *, seed: int | list[int | None] | None = None,
               options: dict[str, Any] | None = None) -> tuple[np.ndarray, dict[str, Any]]:
-        """Every game anew; an int seed gives game i the seed `seed + i` (as Gymnasium's
-        own vector environments do)."""
+        """Every game anew, or those `options["reset_mask"]` names (as Gymnasium's own
+        vectors: the others' observations stay as they are, and the infos are only the
+        reset games'); an int seed gives game i the seed `seed + i`, as theirs does."""
         seeds = ([seed + i for i in range(self.num_envs)] if isinstance(seed, int)
                  else seed if seed is not None else [None] * self.num_envs)
         if len(seeds) != self.num_envs:
             raise ValueError(f"{len(seeds)} seeds for {self.num_envs} games")
-        self._games.reset(list(seeds))
+        which = _reset_mask(options, self.num_envs)
+        if which is not None and not self._begun:
+            raise RuntimeError("reset every game before some (options['reset_mask'])")
+        self._games.reset(list(seeds), None if which is None else which.tolist())
         self._begun = True
-        return self._out(self._rows.obs), self._infos()
+        return self._out(self._rows.obs), self._infos(which)
 
     def step(self, actions: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                                           dict[str, Any]]:
@@ -120,16 +124,23 @@ class SpaceInvadersVectorEnv(VectorEnv):
     def _out(self, array: np.ndarray) -> np.ndarray:
         return array.copy() if self.copy else array
 
-    def _infos(self) -> dict[str, Any]:
+    def _infos(self, present: np.ndarray | None = None) -> dict[str, Any]:
         """Each game's info as Gymnasium's sync vector merges them: each number an array,
         the events an array of each game's tuple of names, the counters a dict of arrays,
-        each with Gymnasium's mask of who has it (every game)."""
-        present = np.ones(self.num_envs, np.bool_)
-        columns = dict(zip(NUMBERS, self._rows.numbers.T.copy(), strict=True))  # (the caller's)
+        each with Gymnasium's mask of who has it (every game, or those `present`: the
+        others' numbers 0 and events None, as Gymnasium fills what a game did not give)."""
+        numbers = self._rows.numbers.T.copy()  # (the caller's)
+        if present is None:
+            present = np.ones(self.num_envs, np.bool_)
+        else:
+            numbers[:, ~present] = 0
+        columns = dict(zip(NUMBERS, numbers, strict=True))
         infos: dict[str, Any] = {}
         for key in ALE_NUMBERS:
             infos[key], infos[f"_{key}"] = columns[key], present
-        infos["events"], infos["_events"] = self._events(columns["events"].tolist()), present
+        events = self._events(columns["events"].tolist())
+        events[~present] = None
+        infos["events"], infos["_events"] = events, present
         collisions: dict[str, Any] = {}
         for key in STAT_FIELDS:
             collisions[key], collisions[f"_{key}"] = columns[key], present
@@ -149,3 +160,17 @@ class SpaceInvadersVectorEnv(VectorEnv):
             else:
                 events[i] = ()
         return events
+
+
+def _reset_mask(options: dict[str, Any] | None, games: int) -> np.ndarray | None:
+    """The games a reset is for, when `options["reset_mask"]` names them (refused as
+    Gymnasium's vectors refuse it: a numpy array of `games` bools, one True at least)."""
+    if options is None or "reset_mask" not in options:
+        return None
+    which = options["reset_mask"]
+    if not isinstance(which, np.ndarray) or which.dtype != np.bool_:
+        raise TypeError(f"options['reset_mask'] {which!r}: a numpy array of bools")
+    if which.shape != (games,) or not which.any():
+        raise ValueError(f"options['reset_mask'] {which!r}: one bool a game ({games}), "
+                         "one True at least")
+    return which

@@ -135,10 +135,13 @@ class Pool:
             self.close()  # (no process left behind)
             raise
 
-    def reset(self, seeds: list[int | None]) -> None:
+    def reset(self, seeds: list[int | None], which: list[bool] | None = None) -> None:
+        """Every game anew, or those `which` names (as `Games.reset`)."""
         self._check_usable()
-        self._ask("reset", [seeds[start:stop] for start, stop in self._shares],
-                  lambda: self._here.reset(seeds[:self._mine]))
+        which = [True] * len(seeds) if which is None else which
+        self._ask("reset", [(seeds[start:stop], which[start:stop])
+                            for start, stop in self._shares],
+                  lambda: self._here.reset(seeds[:self._mine], which[:self._mine]))
 
     def step(self, actions: list[int]) -> None:
         self._check_usable()
@@ -223,7 +226,7 @@ def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Spe
     while True:
         if not _spin_then_take(go):
             go.acquire()
-        argument: Any  # (the command's: a reset's seeds)
+        argument: Any  # (the command's: a reset's seeds and which games)
         command, argument = conn.recv() if conn.poll() else ("step", None)
         spilled: dict[int, list[Event]] = {}
         try:
@@ -233,7 +236,7 @@ def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Spe
                 games.step(actions[start:stop].tolist())
                 spilled = games.spilled  # (events past what the rows keep: rare)
             elif command == "reset" and games is not None:
-                games.reset(argument)
+                games.reset(*argument)
             elif command == "close" and games is not None:
                 games.close()
         except Exception as error:  # (said to the caller, which raises it)
