@@ -23,6 +23,7 @@ import pygame
 import pytest
 from gymnasium.utils import seeding
 from gymnasium.utils.env_checker import check_env, data_equivalence
+from gymnasium.vector import AutoresetMode
 from gymnasium.wrappers.vector import HumanRendering
 
 import invaders.env  # noqa: F401  (registers the id)
@@ -1011,15 +1012,31 @@ def _in_lockstep(one, other, seed: int, infos: tuple[str, ...] | None
     rng = np.random.default_rng(seed)
     ends = 0
     for _ in range(210):
-        actions = rng.integers(0, 6, 3)
-        (o1, r1, t1, u1, i1), (o2, r2, t2, u2, i2) = (venv.step(actions)
-                                                      for venv in (one, other))
-        assert np.array_equal(o1, o2) and np.array_equal(r1, r2)
-        assert np.array_equal(t1, t2) and np.array_equal(u1, u2)
-        assert infos is not None or i1.keys() == i2.keys()
-        assert all(_same(i1[key], i2[key]) for key in infos or i1)
-        ends += int(u1.sum())
-    return ends, o2
+        obs, _, _, truncated, _ = _step_alike(one, other, rng.integers(0, 6, 3), infos)
+        ends += int(truncated.sum())
+    return ends, obs
+
+
+def _step_alike(one, other, actions: np.ndarray, infos: tuple[str, ...] | None = None
+                ) -> tuple:
+    """A step of two vectors with the same actions: their observations, rewards, ends
+    and infos (those named, or all) equal. The first one's step."""
+    (o1, r1, t1, u1, i1), (o2, r2, t2, u2, i2) = (venv.step(actions) for venv in (one, other))
+    assert np.array_equal(o1, o2) and np.array_equal(r1, r2)
+    assert np.array_equal(t1, t2) and np.array_equal(u1, u2)
+    assert infos is not None or i1.keys() == i2.keys()
+    assert all(_same(i1[key], i2[key]) for key in infos or i1)
+    return o1, r1, t1, u1, i1
+
+
+def _reset_alike(one, other, seed: int, which: np.ndarray) -> dict:
+    """The games `which` names reset in two vectors: their observations and infos equal.
+    The first one's infos."""
+    (o1, i1), (o2, i2) = (venv.reset(seed=seed, options={"reset_mask": which.copy()})
+                          for venv in (one, other))
+    assert np.array_equal(o1, o2) and i1.keys() == i2.keys()
+    assert all(_same(i1[key], i2[key]) for key in i1)
+    return i1
 
 
 def _same(one, other) -> bool:
@@ -1090,20 +1107,13 @@ def test_the_native_vector_resets_some_games_as_gymnasiums_sync_one(options, wor
         venv.reset(seed=3)
     rng, partial, left = np.random.default_rng(3), 0, 0
     for step in range(260):
-        (o1, r1, t1, u1, i1), (o2, r2, t2, u2, i2) = (
-            venv.step(actions) for actions in [rng.integers(0, 6, 3)] for venv in (native, sync))
-        assert np.array_equal(o1, o2) and np.array_equal(r1, r2)
-        assert np.array_equal(t1, t2) and np.array_equal(u1, u2)
-        assert i1.keys() == i2.keys() and all(_same(i1[k], i2[k]) for k in i1)
-        ended = t1 | u1
+        _, _, terminated, truncated, _ = _step_alike(native, sync, rng.integers(0, 6, 3))
+        ended = terminated | truncated
         if ended.any() or step % 37 == 36:  # (in turn, the ended games or the others)
             which = (ended if partial % 2 else ~ended) if ended.any() else rng.random(3) < 0.5
             which[step % 3] |= not which.any()
             left += int((ended & ~which).sum())  # (these reset at the next step)
-            (o1, i1), (o2, i2) = (venv.reset(seed=step, options={"reset_mask": which.copy()})
-                                  for venv in (native, sync))
-            assert np.array_equal(o1, o2) and i1.keys() == i2.keys()
-            assert all(_same(i1[k], i2[k]) for k in i1) and list(i1["_seed"]) == list(which)
+            assert list(_reset_alike(native, sync, step, which)["_seed"]) == list(which)
             partial += 1
     assert partial >= 8 and left >= 2
     # (refused as Gymnasium's vectors refuse it, of 1.4: those of 1.1 asserted instead)
@@ -1113,6 +1123,39 @@ def test_the_native_vector_resets_some_games_as_gymnasiums_sync_one(options, wor
             native.reset(options={"reset_mask": bad})
     native.close()
     sync.close()
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_the_native_vector_without_autoreset_plays_as_gymnasiums_sync_one(workers):
+    """`autoreset_mode` DISABLED: an ended game waits for the caller to reset it (by
+    `reset_mask`, as Gymnasium's documentation loops); stepped before that, refused. The
+    same as the sync vector's, step for step, across episode ends. SAME_STEP, and a mode
+    that is none of Gymnasium's, refused naming the option."""
+    options = {"obs_type": "grayscale", "resize": (84, 84), "stack": 2,
+               "max_num_frames_per_episode": 300}
+    native = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
+                                workers=workers, autoreset_mode="Disabled", **options)
+    sync = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="sync",
+                              vector_kwargs={"autoreset_mode": AutoresetMode.DISABLED}, **options)
+    assert native.metadata["autoreset_mode"] is AutoresetMode.DISABLED
+    for venv in (native, sync):
+        venv.reset(seed=6)
+    rng, resets = np.random.default_rng(6), 0
+    for step in range(200):
+        _, _, terminated, truncated, _ = _step_alike(native, sync, rng.integers(0, 6, 3))
+        ended = terminated | truncated
+        if ended.any():
+            with pytest.raises(RuntimeError, match=r"ended: reset them"):
+                native.step(np.zeros(3, np.int64))
+            _reset_alike(native, sync, step, ended)
+            resets += 1
+    assert resets >= 2
+    native.close()
+    sync.close()
+    for mode in ("SameStep", AutoresetMode.SAME_STEP, "next step"):
+        with pytest.raises(ValueError, match="autoreset_mode"):
+            gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
+                               obs_type="state", autoreset_mode=mode)
 
 
 @pytest.mark.parametrize("options", [{"obs_type": "state"},

@@ -4,11 +4,12 @@ vectorization_mode="vector_entry_point")`, in this process, or with `workers=W` 
 cores (a share of the games stepped here, each other share on a worker process, the
 arrays in shared memory: workers.py). Autoreset as Gymnasium 1.x's default (`NEXT_STEP`):
 the step after an episode ends resets that game (reward 0, its first observation), the
-others step on. Each game is a `SpaceInvadersEnv`, so each gives what it would alone, and
-the infos are those Gymnasium's vectors merge from its games' (events and counters too);
-the batch saves the per-game copies, the merging of infos and the wrappers of a generic
-vector environment (and, on workers, the pickled infos of Gymnasium's async one), and
-draws and shrinks its games' grey pictures together (games.py).
+others step on; or none (`DISABLED`: the caller resets it). Each game is a
+`SpaceInvadersEnv`, so each gives what it would alone, and the infos are those
+Gymnasium's vectors merge from its games' (events and counters too); the batch saves the
+per-game copies, the merging of infos and the wrappers of a generic vector environment
+(and, on workers, the pickled infos of Gymnasium's async one), and draws and shrinks its
+games' grey pictures together (games.py).
 """
 
 from __future__ import annotations
@@ -33,14 +34,19 @@ class SpaceInvadersVectorEnv(VectorEnv):
     """`num_envs` games with the same options (those of `SpaceInvadersEnv`), in this
     process or in `workers` shares, this process's and `workers - 1` worker processes'
     (started with the multiprocessing `context` named, or the platform's default, as
-    Gymnasium's async vector does)."""
+    Gymnasium's async vector does). A game whose episode ended resets at the next step
+    (`autoreset_mode` NEXT_STEP, Gymnasium's default), or when the caller resets it
+    (DISABLED: `reset(options={"reset_mask": ...})`, as Gymnasium's vectors)."""
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}  # noqa: RUF012 (Gymnasium's)
 
     def __init__(self, num_envs: int = 8, copy: bool = True, workers: int = 1,
-                 context: str | None = None, **options: Any) -> None:
+                 context: str | None = None,
+                 autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
+                 **options: Any) -> None:
         if not (isinstance(num_envs, int) and num_envs >= 1):
             raise ValueError(f"num_envs {num_envs!r}: a whole number from 1")
+        self.autoreset_mode = _autoreset_mode(autoreset_mode)
         if not (isinstance(workers, int) and 1 <= workers <= num_envs):
             raise ValueError(f"workers {workers!r}: a whole number from 1 to num_envs")
         if workers > 1 and options.get("render_mode") is not None:
@@ -52,7 +58,8 @@ class SpaceInvadersVectorEnv(VectorEnv):
         single = SpaceInvadersEnv(**options)  # (checks the options here, in one line)
         # (the steps a second its games show, which Gymnasium's HumanRendering reads)
         self.metadata = {**self.metadata, "render_modes": ["rgb_array"],
-                         "render_fps": single.metadata["render_fps"]}
+                         "render_fps": single.metadata["render_fps"],
+                         "autoreset_mode": self.autoreset_mode}
         self.num_envs, self.copy = num_envs, copy
         self.single_observation_space = single.observation_space
         self.single_action_space = single.action_space
@@ -100,6 +107,10 @@ class SpaceInvadersVectorEnv(VectorEnv):
                                           dict[str, Any]]:
         if not self._begun:
             raise RuntimeError("call reset() before step()")
+        if self.autoreset_mode is AutoresetMode.DISABLED and self._rows.ended.any():
+            raise RuntimeError(f"games {np.flatnonzero(self._rows.ended).tolist()} ended: "
+                               "reset them (options['reset_mask']) before the next step, "
+                               "as autoreset_mode DISABLED asks")
         actions = np.asarray(actions)
         if (actions.shape != (self.num_envs,) or actions.dtype.kind not in "iu"
                 or actions.min() < 0 or actions.max() >= self._action_count):
@@ -174,3 +185,17 @@ def _reset_mask(options: dict[str, Any] | None, games: int) -> np.ndarray | None
         raise ValueError(f"options['reset_mask'] {which!r}: one bool a game ({games}), "
                          "one True at least")
     return which
+
+
+def _autoreset_mode(asked: Any) -> AutoresetMode:
+    """Gymnasium's mode named (the enum or its value), where the batch has it: NEXT_STEP
+    or DISABLED. SAME_STEP, which hands back each ended game's last observation in its
+    info, is Gymnasium's own vectors' (over the same games)."""
+    try:
+        mode = AutoresetMode(asked)
+    except ValueError:
+        mode = None
+    if mode not in (AutoresetMode.NEXT_STEP, AutoresetMode.DISABLED):
+        raise ValueError(f"autoreset_mode {asked!r}: NEXT_STEP or DISABLED (for SAME_STEP, "
+                         "Gymnasium's sync or async vector of the same games)")
+    return mode
