@@ -1045,7 +1045,8 @@ def _same(one, other) -> bool:
     if isinstance(one, dict):
         return one.keys() == other.keys() and all(_same(one[k], other[k]) for k in one)
     return one.dtype == other.dtype and one.shape == other.shape and all(
-        a == b for a, b in zip(one.tolist(), other.tolist(), strict=True))
+        np.array_equal(a, b) if isinstance(a, np.ndarray) else a == b  # (final_obs: arrays)
+        for a, b in zip(one.tolist(), other.tolist(), strict=True))
 
 
 @pytest.mark.parametrize("options", [{"obs_type": "state"}, {"obs_type": "grayscale"},
@@ -1129,8 +1130,8 @@ def test_the_native_vector_resets_some_games_as_gymnasiums_sync_one(options, wor
 def test_the_native_vector_without_autoreset_plays_as_gymnasiums_sync_one(workers):
     """`autoreset_mode` DISABLED: an ended game waits for the caller to reset it (by
     `reset_mask`, as Gymnasium's documentation loops); stepped before that, refused. The
-    same as the sync vector's, step for step, across episode ends. SAME_STEP, and a mode
-    that is none of Gymnasium's, refused naming the option."""
+    same as the sync vector's, step for step, across episode ends. A mode that is none of
+    Gymnasium's is refused naming the option."""
     options = {"obs_type": "grayscale", "resize": (84, 84), "stack": 2,
                "max_num_frames_per_episode": 300}
     native = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
@@ -1152,10 +1153,50 @@ def test_the_native_vector_without_autoreset_plays_as_gymnasiums_sync_one(worker
     assert resets >= 2
     native.close()
     sync.close()
-    for mode in ("SameStep", AutoresetMode.SAME_STEP, "next step"):
+    for mode in ("next step", 1, None):
         with pytest.raises(ValueError, match="autoreset_mode"):
             gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
                                obs_type="state", autoreset_mode=mode)
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+@pytest.mark.parametrize("options", [{"obs_type": "state"},
+                                     {"obs_type": "grayscale", "resize": (84, 84), "stack": 2}],
+                         ids=["state", "grayscale-84x84x2"])
+def test_the_native_vector_resetting_within_the_step_plays_as_gymnasiums_sync_one(
+        options, workers):
+    """`autoreset_mode` SAME_STEP: a game whose episode ends resets within the step (its
+    observation and info the new episode's first), its last observation and info in the
+    step's `final_obs` and `final_info`, its reward and ends the step's. The same as the
+    sync vector's, step for step, across episode ends (ended by the limit or at game
+    over, some games at once)."""
+    options = {**options, "frameskip": 30, "max_num_frames_per_episode": 2400}
+    native = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
+                                workers=workers, autoreset_mode=AutoresetMode.SAME_STEP,
+                                **options)
+    sync = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="sync",
+                              vector_kwargs={"autoreset_mode": "SameStep"}, **options)
+    assert native.metadata["autoreset_mode"] is AutoresetMode.SAME_STEP
+    for venv in (native, sync):
+        venv.reset(seed=8)
+    rng, finals, game_overs, at_once = np.random.default_rng(8), 0, 0, 0
+    for step in range(240):
+        if step == 30:  # (one game's episodes out of step with the others')
+            _reset_alike(native, sync, 8, np.array([False, True, False]))
+        obs, _, terminated, truncated, info = _step_alike(native, sync, rng.integers(0, 6, 3))
+        ended = terminated | truncated
+        game_overs, at_once = game_overs + terminated.sum(), at_once + (ended.sum() > 1)
+        assert ("final_obs" in info) == ended.any()
+        if ended.any():
+            assert list(info["_final_obs"]) == list(ended) == list(info["_final_info"])
+            for i in np.flatnonzero(ended):  # (the new episode's first, and the last)
+                assert info["episode_frame_number"][i] == 0
+                assert info["final_info"]["episode_frame_number"][i] > 0
+                assert not np.array_equal(info["final_obs"][i], obs[i])
+            finals += int(ended.sum())
+    assert finals >= 5 and game_overs >= 1 and at_once >= 1
+    native.close()
+    sync.close()
 
 
 @pytest.mark.parametrize("options", [{"obs_type": "state"},

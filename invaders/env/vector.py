@@ -4,7 +4,8 @@ vectorization_mode="vector_entry_point")`, in this process, or with `workers=W` 
 cores (a share of the games stepped here, each other share on a worker process, the
 arrays in shared memory: workers.py). Autoreset as Gymnasium 1.x's default (`NEXT_STEP`):
 the step after an episode ends resets that game (reward 0, its first observation), the
-others step on; or none (`DISABLED`: the caller resets it). Each game is a
+others step on; or within the step (`SAME_STEP`), or never (`DISABLED`: the caller resets
+it), as Gymnasium's own vectors take `autoreset_mode`. Each game is a
 `SpaceInvadersEnv`, so each gives what it would alone, and the infos are those
 Gymnasium's vectors merge from its games' (events and counters too); the batch saves the
 per-game copies, the merging of infos and the wrappers of a generic vector environment
@@ -35,8 +36,9 @@ class SpaceInvadersVectorEnv(VectorEnv):
     process or in `workers` shares, this process's and `workers - 1` worker processes'
     (started with the multiprocessing `context` named, or the platform's default, as
     Gymnasium's async vector does). A game whose episode ended resets at the next step
-    (`autoreset_mode` NEXT_STEP, Gymnasium's default), or when the caller resets it
-    (DISABLED: `reset(options={"reset_mask": ...})`, as Gymnasium's vectors)."""
+    (`autoreset_mode` NEXT_STEP, Gymnasium's default), within the step (SAME_STEP), or
+    when the caller resets it (DISABLED: `reset(options={"reset_mask": ...})`), as in
+    Gymnasium's vectors."""
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}  # noqa: RUF012 (Gymnasium's)
 
@@ -116,9 +118,34 @@ class SpaceInvadersVectorEnv(VectorEnv):
                 or actions.min() < 0 or actions.max() >= self._action_count):
             raise ValueError(f"actions {actions!r} are not in {self.action_space}")
         self._games.step(actions.tolist())
+        infos = self._infos()
+        if self.autoreset_mode is AutoresetMode.SAME_STEP:
+            infos = self._restart_ended(infos)
         rows = self._rows
         return (self._out(rows.obs), self._out(rows.rewards), self._out(rows.terminated),
-                self._out(rows.truncated), self._infos())
+                self._out(rows.truncated), infos)
+
+    def _restart_ended(self, infos: dict[str, Any]) -> dict[str, Any]:
+        """SAME_STEP: the games whose episodes this step ended reset within it, as in
+        Gymnasium's vectors: their observations and infos are the new episodes' first,
+        the ended episodes' last in `final_obs` and `final_info`; the step's rewards and
+        ends stay. (A reset of those games, as `reset_mask` asks: one more round on
+        workers, at an episode's end.)"""
+        rows = self._rows
+        ended = rows.terminated | rows.truncated
+        if not ended.any():
+            return infos
+        final_obs = np.full(self.num_envs, None, object)
+        for i in np.flatnonzero(ended):
+            final_obs[i] = rows.obs[i].copy()
+        final_info = self._infos(ended)
+        kept = rows.rewards.copy(), rows.terminated.copy(), rows.truncated.copy()
+        self._games.reset([None] * self.num_envs, ended.tolist())
+        rows.rewards[:], rows.terminated[:], rows.truncated[:] = kept
+        infos = _where(ended, self._infos(ended), infos)
+        infos.update(final_obs=final_obs, _final_obs=ended, final_info=final_info,
+                     _final_info=ended)
+        return infos
 
     def render(self) -> tuple[np.ndarray, ...] | None:
         if self.render_mode != "rgb_array":
@@ -188,14 +215,17 @@ def _reset_mask(options: dict[str, Any] | None, games: int) -> np.ndarray | None
 
 
 def _autoreset_mode(asked: Any) -> AutoresetMode:
-    """Gymnasium's mode named (the enum or its value), where the batch has it: NEXT_STEP
-    or DISABLED. SAME_STEP, which hands back each ended game's last observation in its
-    info, is Gymnasium's own vectors' (over the same games)."""
+    """Gymnasium's mode named (the enum or its value)."""
     try:
-        mode = AutoresetMode(asked)
+        return AutoresetMode(asked)
     except ValueError:
-        mode = None
-    if mode not in (AutoresetMode.NEXT_STEP, AutoresetMode.DISABLED):
-        raise ValueError(f"autoreset_mode {asked!r}: NEXT_STEP or DISABLED (for SAME_STEP, "
-                         "Gymnasium's sync or async vector of the same games)")
-    return mode
+        modes = ", ".join(mode.name for mode in AutoresetMode)
+        raise ValueError(f"autoreset_mode {asked!r}: one of Gymnasium's ({modes})") from None
+
+
+def _where(mask: np.ndarray, these: dict[str, Any], others: dict[str, Any]
+           ) -> dict[str, Any]:
+    """Two infos of the games merged: `these`' entries for the games `mask` names,
+    `others`' for the rest (and so their masks of who has each)."""
+    return {key: _where(mask, value, others[key]) if isinstance(value, dict)
+            else np.where(mask, value, others[key]) for key, value in these.items()}
