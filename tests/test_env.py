@@ -1199,6 +1199,46 @@ def test_the_native_vector_resetting_within_the_step_plays_as_gymnasiums_sync_on
     sync.close()
 
 
+@pytest.mark.parametrize("workers", [1, 2])
+def test_the_native_vectors_games_are_called_and_set_as_in_gymnasiums_sync_one(workers):
+    """`call`, `get_attr` and `set_attr`, as Gymnasium's vectors have them: the games'
+    answers in order (on workers pickled, a whole world's each), a value for each game
+    or one for all; refused, naming why, with the wrong count of values or with a value
+    that cannot go to a worker, and the batch plays on."""
+    options = {"obs_type": "state", "full_action_space": True}
+    native = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
+                                workers=workers, **options)
+    sync = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="sync", **options)
+    for venv in (native, sync):
+        venv.reset(seed=12)
+    _step_alike(native, sync, np.array([1, 4, 17]))
+    for venv in (native, sync):
+        venv.set_attr("tag", ["a", "b", "c"])
+    assert native.get_attr("tag") == sync.get_attr("tag") == ("a", "b", "c")
+    assert native.call("get_action_meanings") == sync.call("get_action_meanings")
+    assert len(native.call("get_action_meanings")[2]) == 18
+    assert native.get_attr("lives") == sync.get_attr("lives")
+    hashes = [[world.state_hash() for world in venv.get_attr("world")] for venv in (native, sync)]
+    assert hashes[0] == hashes[1] and len(set(hashes[0])) == 3
+    native.set_attr("tag", 7)
+    assert native.get_attr("tag") == (7, 7, 7)
+    with pytest.raises(ValueError, match="2 values for 3 games"):
+        native.set_attr("tag", [1, 2])
+    if workers > 1:
+        with pytest.raises((AttributeError, pickle.PicklingError), match="pickle"):
+            native.set_attr("tag", [1, 2, lambda: 3])  # (the third game's is on a worker)
+        big, done = np.arange(300_000), []  # (each way larger than a pipe holds)
+        worker = threading.Thread(daemon=True, target=lambda: done.append(
+            native.set_attr("tag", big) or native.get_attr("tag")))
+        worker.start()
+        worker.join(timeout=60)
+        assert done, "a large value waited on a worker"
+        assert all(np.array_equal(tag, big) for tag in done[0]) and len(done[0]) == 3
+    _step_alike(native, sync, np.array([5, 0, 3]))
+    native.close()
+    sync.close()
+
+
 @pytest.mark.parametrize("options", [{"obs_type": "state"},
                                      {"obs_type": "state", "context": "spawn"},
                                      {"obs_type": "grayscale", "resize": (84, 84), "stack": 2}],

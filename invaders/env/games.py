@@ -146,6 +146,19 @@ class Games:
             obs[:, -1] = small
         obs[first] = small[first][:, None] if stacked else small[first]
 
+    def call(self, name: str, args: tuple[Any, ...], kwargs: dict[str, Any]) -> list[Any]:
+        """Each game's `name` called with these arguments, or its value if not callable
+        (Gymnasium's vectors' `call`)."""
+        results = []
+        for env in self.envs:
+            value = env.get_wrapper_attr(name)
+            results.append(value(*args, **kwargs) if callable(value) else value)
+        return results
+
+    def set_attr(self, name: str, values: list[Any]) -> None:
+        for env, value in zip(self.envs, values, strict=True):
+            env.set_wrapper_attr(name, value)
+
     def close(self) -> None:
         for env in self.envs:
             env.close()

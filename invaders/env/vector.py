@@ -147,6 +147,25 @@ class SpaceInvadersVectorEnv(VectorEnv):
                      _final_info=ended)
         return infos
 
+    def call(self, name: str, *args: Any, **kwargs: Any) -> tuple[Any, ...]:
+        """Each game's `name` called with these arguments (or its value, not callable), as
+        Gymnasium's sync and async vectors' `call`; on workers the answers are pickled.
+        (The games are single environments: where the batch shrinks and stacks their
+        pictures, theirs are the full picture.)"""
+        return tuple(self._games.call(name, args, kwargs))
+
+    def get_attr(self, name: str) -> tuple[Any, ...]:
+        return self.call(name)
+
+    def set_attr(self, name: str, values: list[Any] | tuple[Any, ...] | Any) -> None:
+        """Each game's attribute `name` set: to the value a game of the list or tuple, or
+        to the one value given."""
+        if not isinstance(values, (list, tuple)):
+            values = [values] * self.num_envs
+        if len(values) != self.num_envs:
+            raise ValueError(f"{len(values)} values for {self.num_envs} games")
+        self._games.set_attr(name, list(values))
+
     def render(self) -> tuple[np.ndarray, ...] | None:
         if self.render_mode != "rgb_array":
             return None

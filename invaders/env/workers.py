@@ -17,6 +17,7 @@ import signal
 import time
 from math import prod
 from multiprocessing.connection import Connection
+from multiprocessing.reduction import ForkingPickler
 from typing import Any
 
 import numpy as np
@@ -31,16 +32,19 @@ ALIVE_CHECK = 1.0  # seconds between checks that a worker waited on is still run
 
 
 def _specs(games: int, obs_shape: tuple[int, ...], obs_dtype: Any) -> Specs:
-    """The rows' arrays, and the actions'."""
-    return {**Rows.specs(games, obs_shape, obs_dtype), "actions": ((games,), np.int64)}
+    """The rows' arrays, the actions', and a flag: 1 while the command the workers are
+    told to do comes by pipe (anything but a step)."""
+    return {**Rows.specs(games, obs_shape, obs_dtype), "actions": ((games,), np.int64),
+            "piped": ((1,), np.uint8)}
 
 
-def _views(raws: dict[str, Any], specs: Specs) -> tuple[Rows, np.ndarray]:
-    """The shared arrays as numpy arrays over their memory: the rows, and the actions."""
+def _views(raws: dict[str, Any], specs: Specs) -> tuple[Rows, np.ndarray, np.ndarray]:
+    """The shared arrays as numpy arrays over their memory: the rows, the actions and the
+    flag."""
     arrays = {name: np.frombuffer(raws[name], dtype, prod(shape)).reshape(shape)
               for name, (shape, dtype) in specs.items()}
-    actions = arrays.pop("actions")
-    return Rows(**arrays), actions
+    actions, piped = arrays.pop("actions"), arrays.pop("piped")
+    return Rows(**arrays), actions, piped
 
 
 def _share(rows: Rows, start: int, stop: int) -> Rows:
@@ -74,13 +78,16 @@ class _Worker:
         self.process.start()
         theirs.close()
 
-    def send(self, command: str, argument: Any) -> None:
-        if command != "step":
+    def send(self, message: bytes | None) -> None:
+        """Go, with a command's message (pickled) unless it is a step: sent after the
+        go, so that the worker reads it as it is written (one larger than a pipe holds
+        would otherwise wait for a worker waiting for the go)."""
+        self.go.release()
+        if message is not None:
             try:
-                self.conn.send((command, argument))
+                self.conn.send_bytes(message)
             except OSError:  # (its end of the pipe closed: the process is gone)
                 raise self.ended() from None
-        self.go.release()
 
     def spilled(self) -> dict[int, list[int]]:
         """The events its games spilled this step (by game, counted among all the games),
@@ -90,13 +97,26 @@ class _Worker:
         except EOFError:
             raise self.ended() from None
 
+    def results(self, answer: Any) -> list[Any]:
+        """A call's results, which it sends after its answer (as spills: a message of any
+        size), unless they came already, or it failed (none then)."""
+        if isinstance(answer, str):
+            return []
+        if isinstance(answer, list):
+            return answer
+        try:
+            return self.conn.recv()
+        except EOFError:
+            raise self.ended() from None
+
     def ended(self) -> WorkerEnded:
         self.process.join(timeout=ALIVE_CHECK)
         return WorkerEnded(f"a games worker ended (exit code {self.process.exitcode})")
 
-    def answer(self) -> str | dict[int, list[int]] | None:
+    def answer(self) -> str | dict[int, list[int]] | list[Any] | None:
         """After a command: None, what went wrong in the worker, or after a step the
-        events its games spilled if they came already (see `spilled`)."""
+        events its games spilled if they came already (see `spilled`), after a call its
+        results (see `results`)."""
         if not _spin_then_take(self.done):
             while not self.done.acquire(timeout=ALIVE_CHECK):
                 if not self.process.is_alive():
@@ -119,7 +139,7 @@ class Pool:
         specs = _specs(games, obs_shape, obs_dtype)
         raws = {name: ctx.RawArray("B", prod(shape) * np.dtype(dtype).itemsize)
                 for name, (shape, dtype) in specs.items()}
-        self.rows, self._actions = _views(raws, specs)
+        self.rows, self._actions, self._piped = _views(raws, specs)
         (_, self._mine), *others = [(int(part[0]), int(part[-1]) + 1)
                                     for part in np.array_split(np.arange(games), workers)]
         self._shares = others
@@ -148,6 +168,19 @@ class Pool:
         self._actions[:] = actions
         self._ask("step", [None] * len(self._workers),
                   lambda: self._here.step(actions[:self._mine]))
+
+    def call(self, name: str, args: tuple[Any, ...], kwargs: dict[str, Any]) -> list[Any]:
+        """`Games.call` on every game, in order: the workers' answers come by pipe."""
+        self._check_usable()
+        here: list[Any] = []
+        answers = self._ask("call", [(name, args, kwargs)] * len(self._workers),
+                            lambda: here.extend(self._here.call(name, args, kwargs)))
+        return here + [result for answer in answers for result in answer]
+
+    def set_attr(self, name: str, values: list[Any]) -> None:
+        self._check_usable()
+        self._ask("set_attr", [(name, values[start:stop]) for start, stop in self._shares],
+                  lambda: self._here.set_attr(name, values[:self._mine]))
 
     def close(self) -> None:
         """Every game closed (an episode being recorded is written); the workers end. A
@@ -180,28 +213,35 @@ class Pool:
             raise RuntimeError("a step of the games was interrupted before every worker "
                                "answered: close this vector and make another")
 
-    def _ask(self, command: str, arguments: list[Any], own: Any = None) -> None:
+    def _ask(self, command: str, arguments: list[Any], own: Any = None) -> list[Any]:
         """Each worker the command (with its argument), the caller's own share done
-        meanwhile, then each worker's answer; the first failure raised. (Steps and resets
-        check first that the last command was answered.)"""
+        meanwhile, then each worker's answer; the first failure raised. After a call,
+        each worker's results. (Steps and resets check first that the last command was
+        answered.)"""
+        # (every message pickled before any worker is told: one that cannot be fails here)
+        messages = [None if command == "step" else bytes(ForkingPickler.dumps((command, argument)))
+                    for argument in arguments]
         self._waiting = True
-        for worker, argument in zip(self._workers, arguments, strict=True):
-            worker.send(command, argument)
+        self._piped[0] = command != "step"
+        for worker, message in zip(self._workers, messages, strict=True):
+            worker.send(message)
         try:
             if own is not None:
                 own()
-        finally:  # (every answer taken, spills too, so none is left for the next command)
+        finally:  # (every answer taken, spills and results too, so none is left over)
             answers = [worker.answer() for worker in self._workers]
             spilled = self._spills(answers) if command == "step" else {}
+            results = [worker.results(answer) for worker, answer
+                       in zip(self._workers, answers, strict=True)] if command == "call" else []
             self._waiting = False
         failures = [answer for answer in answers if isinstance(answer, str)]
         if failures:
             raise RuntimeError(f"a games worker failed: {failures[0]}")
         self.spilled = {i: list(events) for i, events in self._here.spilled.items()}
         self.spilled.update(spilled)
+        return results
 
-    def _spills(self, answers: list[str | dict[int, list[int]] | None]
-                ) -> dict[int, list[int]]:
+    def _spills(self, answers: list[Any]) -> dict[int, list[int]]:
         """The events the workers' games spilled this step: a worker sends them after its
         answer (a message of any size would wait on a caller still waiting for the
         answer), where its games' rows count more than they keep."""
@@ -221,14 +261,15 @@ def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Spe
     """A worker: its share of the games, stepped each time it is told to go, until told to
     close. Ctrl-C is the caller's to handle (it closes the workers)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    rows, actions = _views(raws, specs)
+    rows, actions, piped = _views(raws, specs)
     games: Games | None = None
     while True:
         if not _spin_then_take(go):
             go.acquire()
         argument: Any  # (the command's: a reset's seeds and which games)
-        command, argument = conn.recv() if conn.poll() else ("step", None)
+        command, argument = conn.recv() if piped[0] else ("step", None)
         spilled: dict[int, list[Event]] = {}
+        results: Any = None  # (a call's, pickled here: one that cannot be is its failure)
         try:
             if command == "start":
                 games = Games(stop - start, _share(rows, start, stop), options)
@@ -237,6 +278,10 @@ def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Spe
                 spilled = games.spilled  # (events past what the rows keep: rare)
             elif command == "reset" and games is not None:
                 games.reset(*argument)
+            elif command == "call" and games is not None:
+                results = ForkingPickler.dumps(games.call(*argument))
+            elif command == "set_attr" and games is not None:
+                games.set_attr(*argument)
             elif command == "close" and games is not None:
                 games.close()
         except Exception as error:  # (said to the caller, which raises it)
@@ -245,5 +290,7 @@ def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Spe
         if spilled:  # (after the answer: the caller takes them, its rows saying so)
             conn.send({start + i: [int(event) for event in events]
                        for i, events in spilled.items()})
+        if results is not None:  # (after the answer too: the caller takes them)
+            conn.send_bytes(results)
         if command == "close":
             return
