@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from operator import attrgetter
+from typing import Any
 
+import numpy as np
 import pygame
 
 from invaders.engine.body import Body
@@ -90,3 +92,14 @@ def through_the_prompt(app, clock) -> list[bool]:
         drew.append(app.step([], 0)[1])
         assert len(drew) < 400
     return drew
+
+
+def infos_alike(one: Any, other: Any) -> bool:
+    """Two infos of vector environments (or entries of them) equal as Gymnasium merges
+    them: arrays of the same type and values (tuples of names, for events; arrays, for
+    final observations), or dicts of such arrays."""
+    if isinstance(one, dict):
+        return one.keys() == other.keys() and all(infos_alike(one[k], other[k]) for k in one)
+    return one.dtype == other.dtype and one.shape == other.shape and all(
+        np.array_equal(a, b) if isinstance(a, np.ndarray) else a == b
+        for a, b in zip(one.tolist(), other.tolist(), strict=True))

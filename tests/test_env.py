@@ -41,6 +41,7 @@ from invaders.game.events import Event
 from invaders.game.replay import load
 from invaders.game.world import Phase
 from invaders.lab.autopilot import Autopilot
+from tests.helpers import infos_alike
 
 ENV_ID = "invaders/SpaceInvaders-v0"
 
@@ -382,7 +383,7 @@ def steps_digest(env: SpaceInvadersEnv) -> str:
     return digest.hexdigest()
 
 
-def test_a_state_pickled_is_restored_in_another_process_and_plays_the_same(tmp_path):
+def test_a_state_pickled_is_restored_in_another_process_and_plays_theinfos_alike(tmp_path):
     """ALE's states pickle: one cloned here (with the generator of sticky actions and frame
     skips), written with pickle and restored in a new process plays the steps it plays
     restored here; it holds no reference to this process's objects."""
@@ -1025,7 +1026,7 @@ def _step_alike(one, other, actions: np.ndarray, infos: tuple[str, ...] | None =
     assert np.array_equal(o1, o2) and np.array_equal(r1, r2)
     assert np.array_equal(t1, t2) and np.array_equal(u1, u2)
     assert infos is not None or i1.keys() == i2.keys()
-    assert all(_same(i1[key], i2[key]) for key in infos or i1)
+    assert all(infos_alike(i1[key], i2[key]) for key in infos or i1)
     return o1, r1, t1, u1, i1
 
 
@@ -1035,18 +1036,8 @@ def _reset_alike(one, other, seed: int, which: np.ndarray) -> dict:
     (o1, i1), (o2, i2) = (venv.reset(seed=seed, options={"reset_mask": which.copy()})
                           for venv in (one, other))
     assert np.array_equal(o1, o2) and i1.keys() == i2.keys()
-    assert all(_same(i1[key], i2[key]) for key in i1)
+    assert all(infos_alike(i1[key], i2[key]) for key in i1)
     return i1
-
-
-def _same(one, other) -> bool:
-    """Two infos' entries equal as Gymnasium merges them: arrays of the same type and
-    values (tuples of names, for events), or dicts of such arrays."""
-    if isinstance(one, dict):
-        return one.keys() == other.keys() and all(_same(one[k], other[k]) for k in one)
-    return one.dtype == other.dtype and one.shape == other.shape and all(
-        np.array_equal(a, b) if isinstance(a, np.ndarray) else a == b  # (final_obs: arrays)
-        for a, b in zip(one.tolist(), other.tolist(), strict=True))
 
 
 @pytest.mark.parametrize("options", [{"obs_type": "state"}, {"obs_type": "grayscale"},
@@ -1082,7 +1073,7 @@ def test_the_native_vectors_events_past_what_its_rows_keep_are_given_whole(worke
     counts = []
     for actions in ([1, 4, 5], [5, 1, 4], [4, 5, 1], [1, 1, 1]):
         (*_, info), (*_, theirs) = native.step(np.array(actions)), sync.step(np.array(actions))
-        assert info.keys() == theirs.keys() and all(_same(info[k], theirs[k]) for k in info)
+        assert info.keys() == theirs.keys() and all(infos_alike(info[k], theirs[k]) for k in info)
         counts += [len(events) for events in info["events"]]
     assert max(counts) > EVENTS_KEPT and min(counts) <= EVENTS_KEPT
     native.close()
