@@ -5,6 +5,8 @@ none may be left over for the next command, whatever the order of commands."""
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import gymnasium
 import numpy as np
 from hypothesis import settings
@@ -28,12 +30,14 @@ class BatchesAlike(RuleBasedStateMachine):
     """Three games on two workers (the caller's share of two, a worker's of one) against
     the same three in one process."""
 
+    options: ClassVar[dict] = OPTIONS
+
     def __init__(self) -> None:
         super().__init__()
         self.here = gymnasium.make_vec(ENV_ID, num_envs=3,
-                                       vectorization_mode="vector_entry_point", **OPTIONS)
+                                       vectorization_mode="vector_entry_point", **self.options)
         self.apart = gymnasium.make_vec(ENV_ID, num_envs=3, workers=2,
-                                        vectorization_mode="vector_entry_point", **OPTIONS)
+                                        vectorization_mode="vector_entry_point", **self.options)
 
     @initialize(seed=st.integers(0, 2**16))
     def reset(self, seed):
@@ -72,6 +76,15 @@ class BatchesAlike(RuleBasedStateMachine):
         self.apart.close()
 
 
-BatchesAlike.TestCase.settings = settings(max_examples=25, stateful_step_count=20,
-                                          deadline=None)
+class SameStepBatchesAlike(BatchesAlike):
+    """The same, an ended game reset within its step (a partial reset of the games, on
+    workers too, inside a step)."""
+
+    options: ClassVar[dict] = {**OPTIONS, "autoreset_mode": "SameStep"}
+
+
+for machine in (BatchesAlike, SameStepBatchesAlike):
+    machine.TestCase.settings = settings(max_examples=25, stateful_step_count=20,
+                                         deadline=None)
 test_the_batch_on_workers_answers_random_commands_as_in_one_process = BatchesAlike.TestCase
+test_so_does_one_resetting_within_the_step = SameStepBatchesAlike.TestCase
