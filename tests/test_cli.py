@@ -129,11 +129,13 @@ def test_bad_input_is_one_line_naming_the_problem_and_exit_2(capsys, args, probl
     assert "Traceback" not in err
 
 
-def test_play_without_a_display_is_one_line():
+@pytest.mark.parametrize("words", [["play"], [], ["--scale", "2"]])
+def test_play_without_a_display_is_one_line(words):
+    """`invaders play`, or `invaders` with no command (alone, or with play's options)."""
     script = Path(sys.executable).with_name("invaders")
     env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
     env["SDL_VIDEODRIVER"] = "x11"  # no X server here: the window cannot open
-    result = subprocess.run([str(script), "play"], capture_output=True, text=True, env=env,
+    result = subprocess.run([str(script), *words], capture_output=True, text=True, env=env,
                             timeout=60, check=False)
     assert result.returncode == 2
     assert len(result.stderr.strip().splitlines()) == 1

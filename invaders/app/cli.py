@@ -566,6 +566,15 @@ COMMANDS = {"play": Command(_add_play, cmd_play), "run": Command(_add_run, cmd_r
             "bench": Command(_add_bench, cmd_bench)}  # in the order `--help` lists them
 
 
+def _with_command(argv: list[str]) -> list[str]:
+    """The line with its command: `play` where it starts with none (`invaders` alone, or
+    `invaders --scale 2`, play's options), but for the program's own `--help` and
+    `--version`; a word that is no command is left for the parser to refuse."""
+    if not argv or (argv[0].startswith("-") and argv[0] not in ("-h", "--help", "--version")):
+        return ["play", *argv]
+    return argv
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run one command; exit codes: 0 ok, 1 a check failed, 2 bad input or usage, 3 an
     internal error (one line; `--debug` anywhere on the line prints the traceback)."""
@@ -580,9 +589,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 130
     current.clear()
     try:
-        args = build_parser(argv[0] if argv and argv[0] in COMMANDS else None).parse_args(argv)
-        if args.command is None:
-            args = build_parser().parse_args(["play", *argv])
+        argv = _with_command(argv)
+        args = build_parser(argv[0] if argv[0] in COMMANDS else None).parse_args(argv)
         return COMMANDS[args.command].run(args)
     except (UsageError, OutputError) as err:
         print(f"invaders: error: {err}", file=sys.stderr)
