@@ -2,7 +2,13 @@
 the command starts here too, so that a Ctrl-C while the program is still loading is one
 line, as everywhere else."""
 
+import os
 import sys
+
+# The window's class, by which window managers group windows and match them to a launcher:
+# the program's name however it was started (pygame gives its import's `argv[0]`, which
+# is '__main__.py' under `python -m`). Set before pygame is imported; one given is kept.
+os.environ.setdefault("SDL_VIDEO_X11_WMCLASS", "invaders")
 
 
 def run(argv: list[str] | None = None) -> int:

@@ -349,3 +349,25 @@ def test_bench_window_times_both_ways_of_showing_the_window_in_a_real_x_server()
     lines = result.stdout.splitlines()
     assert len(lines) == 4 and "native framebuffer" in lines[1] and "renderer" in lines[2]
     assert all("frames a second" in line for line in lines[1:3])
+
+
+def test_the_window_is_of_the_programs_class_however_it_is_started():
+    """`python -m invaders` too: window managers group windows and match them to a
+    launcher by their class, which pygame takes from `argv[0]` ('__main__.py' there)."""
+    if shutil.which("xdotool") is None:
+        pytest.skip("xdotool is not installed (apt-get install xdotool): no window to find")
+    with _x_server() as env:
+        game = subprocess.Popen([sys.executable, "-m", "invaders", "--scale", "1"], env=env,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            found = ""
+            for _ in range(100):  # (the window opens within a second or two)
+                found = subprocess.run(["xdotool", "search", "--class", "^invaders$"],
+                                       env=env, capture_output=True, text=True).stdout
+                if found or game.poll() is not None:
+                    break
+                time.sleep(0.1)
+        finally:
+            game.terminate()
+            game.wait(10)
+    assert found.split(), "no window of class 'invaders'"
