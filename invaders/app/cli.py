@@ -106,6 +106,7 @@ def build_parser(command: str | None = None) -> Parser:
                     "its replays headless, time and score the collision methods.",
         epilog="Exit codes: 0 ok, 1 a check failed, 2 bad input or usage, 3 an internal "
                "error (--debug shows its traceback), 128+N stopped by signal N. "
+               "With no command, play (with play's options: 'invaders --scale 2'). "
                "'invaders COMMAND --help' tells more.")
     parser.add_argument("--version", action="version", version=f"invaders {__version__}")
     sub = parser.add_subparsers(dest="command", parser_class=Parser)
