@@ -1,19 +1,26 @@
-"""The native batch on worker processes given random commands: every answer as the same
-batch's in one process. The workers' protocol has a message of its own for each command
-(by pipe, after a go), and sends spilled events and a call's results after its answer;
-none may be left over for the next command, whatever the order of commands."""
+"""The environment given random commands, every answer as a twin's.
+
+A single environment against its twin carried through copies and pickles of itself and of
+its states (clone_state, restore_state): a copy plays on as the original would. The
+native batch on worker processes against the same batch in one process: the workers'
+protocol has a message of its own for each command (by pipe, after a go), and sends
+spilled events and a call's results after its answer; none may be left over for the next
+command, whatever the order of commands."""
 
 from __future__ import annotations
 
+import copy
+import pickle
 from typing import ClassVar
 
 import gymnasium
 import numpy as np
 from hypothesis import settings
 from hypothesis import strategies as st
-from hypothesis.stateful import RuleBasedStateMachine, initialize, rule
+from hypothesis.stateful import RuleBasedStateMachine, initialize, precondition, rule
 
 import invaders.env  # noqa: F401  (registers the id)
+from invaders.env.space_invaders import SpaceInvadersEnv
 from tests.helpers import infos_alike
 
 ENV_ID = "invaders/SpaceInvaders-v0"
@@ -24,6 +31,63 @@ ENV_ID = "invaders/SpaceInvaders-v0"
 OPTIONS = {"obs_type": "state", "frameskip": (1, 1500), "max_num_frames_per_episode": 6000}
 ACTIONS = st.lists(st.integers(0, 5), min_size=3, max_size=3)
 MASKS = st.lists(st.booleans(), min_size=3, max_size=3).filter(any)
+
+
+SEEDS = st.integers(0, 2**16)
+
+
+class CopiesAlike(RuleBasedStateMachine):
+    """An environment (grey, shrunk and stacked, frame skips drawn) and its twin: the twin
+    is now and then replaced by its copy or by its pickle loaded, and restores states
+    pickled and loaded where the environment restores its own."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        options = {"obs_type": "grayscale", "resize": (84, 84), "stack": 2,
+                   "frameskip": (2, 8), "max_num_frames_per_episode": 1500}
+        self.env, self.twin = SpaceInvadersEnv(**options), SpaceInvadersEnv(**options)
+        self.states: tuple | None = None
+
+    @initialize(seed=SEEDS)
+    def reset(self, seed):
+        self._alike([env.reset(seed=seed) for env in (self.env, self.twin)])
+
+    @rule(seed=st.none() | SEEDS)
+    def reset_again(self, seed):
+        self._alike([env.reset(seed=seed) for env in (self.env, self.twin)])
+
+    @rule(actions=st.lists(st.integers(0, 5), min_size=1, max_size=20))
+    def step(self, actions):
+        for action in actions:
+            self._alike([env.step(action) for env in (self.env, self.twin)])
+
+    @rule(include_rng=st.booleans())
+    def clone(self, include_rng):
+        self.states = (self.env.clone_state(include_rng),
+                       pickle.dumps(self.twin.clone_state(include_rng)))
+
+    @precondition(lambda self: self.states is not None)
+    @rule()
+    def restore(self):
+        assert self.states is not None
+        self.env.restore_state(self.states[0])
+        self.twin.restore_state(pickle.loads(self.states[1]))
+
+    @rule()
+    def copy_twin(self):
+        self.twin = copy.deepcopy(self.twin)
+
+    @rule()
+    def pickle_twin(self):
+        self.twin = pickle.loads(pickle.dumps(self.twin))
+
+    def _alike(self, answers: list[tuple]) -> None:
+        for one, other in zip(*answers, strict=True):
+            assert np.array_equal(one, other) if isinstance(one, np.ndarray) else one == other
+
+    def teardown(self) -> None:
+        self.env.close()
+        self.twin.close()
 
 
 class BatchesAlike(RuleBasedStateMachine):
@@ -39,7 +103,7 @@ class BatchesAlike(RuleBasedStateMachine):
         self.apart = gymnasium.make_vec(ENV_ID, num_envs=3, workers=2,
                                         vectorization_mode="vector_entry_point", **self.options)
 
-    @initialize(seed=st.integers(0, 2**16))
+    @initialize(seed=SEEDS)
     def reset(self, seed):
         self._alike([venv.reset(seed=seed) for venv in (self.here, self.apart)])
 
@@ -47,7 +111,7 @@ class BatchesAlike(RuleBasedStateMachine):
     def step(self, actions):
         self._alike([venv.step(np.array(actions)) for venv in (self.here, self.apart)])
 
-    @rule(seed=st.integers(0, 2**16), mask=MASKS)
+    @rule(seed=SEEDS, mask=MASKS)
     def reset_some(self, seed, mask):
         options = {"reset_mask": np.array(mask)}
         self._alike([venv.reset(seed=seed, options=options) for venv in (self.here, self.apart)])
@@ -83,8 +147,10 @@ class SameStepBatchesAlike(BatchesAlike):
     options: ClassVar[dict] = {**OPTIONS, "autoreset_mode": "SameStep"}
 
 
-for machine in (BatchesAlike, SameStepBatchesAlike):
+for machine in (CopiesAlike, BatchesAlike, SameStepBatchesAlike):
     machine.TestCase.settings = settings(max_examples=25, stateful_step_count=20,
                                          deadline=None)
+test_an_environment_plays_on_alike_through_copies_of_itself_and_its_states = (
+    CopiesAlike.TestCase)
 test_the_batch_on_workers_answers_random_commands_as_in_one_process = BatchesAlike.TestCase
 test_so_does_one_resetting_within_the_step = SameStepBatchesAlike.TestCase
