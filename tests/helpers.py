@@ -103,3 +103,11 @@ def infos_alike(one: Any, other: Any) -> bool:
     return one.dtype == other.dtype and one.shape == other.shape and all(
         np.array_equal(a, b) if isinstance(a, np.ndarray) else a == b
         for a, b in zip(one.tolist(), other.tolist(), strict=True))
+
+
+def vector_answers_alike(one: tuple, other: tuple) -> bool:
+    """Two answers of vector environments (a step's or a reset's) equal part for part: the
+    arrays, and the infos as Gymnasium merges them."""
+    return len(one) == len(other) and all(
+        infos_alike(a, b) if isinstance(a, dict) else np.array_equal(a, b)
+        for a, b in zip(one, other, strict=True))

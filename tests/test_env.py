@@ -41,7 +41,7 @@ from invaders.game.events import Event
 from invaders.game.replay import load
 from invaders.game.world import Phase
 from invaders.lab.autopilot import Autopilot
-from tests.helpers import infos_alike
+from tests.helpers import infos_alike, vector_answers_alike
 
 ENV_ID = "invaders/SpaceInvaders-v0"
 
@@ -383,7 +383,7 @@ def steps_digest(env: SpaceInvadersEnv) -> str:
     return digest.hexdigest()
 
 
-def test_a_state_pickled_is_restored_in_another_process_and_plays_theinfos_alike(tmp_path):
+def test_a_state_pickled_is_restored_in_another_process_and_plays_the_same(tmp_path):
     """ALE's states pickle: one cloned here (with the generator of sticky actions and frame
     skips), written with pickle and restored in a new process plays the steps it plays
     restored here; it holds no reference to this process's objects."""
@@ -1003,41 +1003,35 @@ def test_grey_pictures_shrink_by_area_and_stack_in_order():
     assert stacked[-1].max() > 0 and not np.array_equal(stacked[-1], stacked[0])
 
 
-def _in_lockstep(one, other, seed: int, infos: tuple[str, ...] | None
-                 ) -> tuple[int, np.ndarray]:
+def _in_lockstep(one, other, seed: int) -> tuple[int, np.ndarray]:
     """Two vectors of 3 games reset with one seed, then 210 steps of the same random
-    actions, each step's observations, rewards, ends and infos (those named, or all)
-    equal: how many episodes were cut short, and the last observations."""
+    actions, each step's observations, rewards, ends and infos equal: how many episodes
+    were cut short, and the last observations."""
     first = [venv.reset(seed=seed) for venv in (one, other)]
     assert np.array_equal(first[0][0], first[1][0])
     rng = np.random.default_rng(seed)
     ends = 0
     for _ in range(210):
-        obs, _, _, truncated, _ = _step_alike(one, other, rng.integers(0, 6, 3), infos)
+        obs, _, _, truncated, _ = _step_alike(one, other, rng.integers(0, 6, 3))
         ends += int(truncated.sum())
     return ends, obs
 
 
-def _step_alike(one, other, actions: np.ndarray, infos: tuple[str, ...] | None = None
-                ) -> tuple:
+def _step_alike(one, other, actions: np.ndarray) -> tuple:
     """A step of two vectors with the same actions: their observations, rewards, ends
-    and infos (those named, or all) equal. The first one's step."""
-    (o1, r1, t1, u1, i1), (o2, r2, t2, u2, i2) = (venv.step(actions) for venv in (one, other))
-    assert np.array_equal(o1, o2) and np.array_equal(r1, r2)
-    assert np.array_equal(t1, t2) and np.array_equal(u1, u2)
-    assert infos is not None or i1.keys() == i2.keys()
-    assert all(infos_alike(i1[key], i2[key]) for key in infos or i1)
-    return o1, r1, t1, u1, i1
+    and infos equal. The first one's step."""
+    steps = [venv.step(actions) for venv in (one, other)]
+    assert vector_answers_alike(*steps)
+    return steps[0]
 
 
 def _reset_alike(one, other, seed: int, which: np.ndarray) -> dict:
     """The games `which` names reset in two vectors: their observations and infos equal.
     The first one's infos."""
-    (o1, i1), (o2, i2) = (venv.reset(seed=seed, options={"reset_mask": which.copy()})
-                          for venv in (one, other))
-    assert np.array_equal(o1, o2) and i1.keys() == i2.keys()
-    assert all(infos_alike(i1[key], i2[key]) for key in i1)
-    return i1
+    resets = [venv.reset(seed=seed, options={"reset_mask": which.copy()})
+              for venv in (one, other)]
+    assert vector_answers_alike(*resets)
+    return resets[0][1]
 
 
 @pytest.mark.parametrize("options", [{"obs_type": "state"}, {"obs_type": "grayscale"},
@@ -1054,7 +1048,7 @@ def test_the_native_vector_environment_steps_as_gymnasiums_sync_one(options):
     assert native.observation_space == sync.observation_space
     if "resize" in options:  # (the batch shrinks and stacks: its games draw full size)
         assert {env.observation_space.shape for env in native.envs} == {(SCREEN_H, SCREEN_W)}
-    ends, _ = _in_lockstep(native, sync, 5, None)  # (every info: events, counters, seed)
+    ends, _ = _in_lockstep(native, sync, 5)  # (every info: events, counters, seed)
     assert ends == 6  # each game cut at 400 frames, twice in 210 steps
     native.close()
     sync.close()
@@ -1073,7 +1067,7 @@ def test_the_native_vectors_events_past_what_its_rows_keep_are_given_whole(worke
     counts = []
     for actions in ([1, 4, 5], [5, 1, 4], [4, 5, 1], [1, 1, 1]):
         (*_, info), (*_, theirs) = native.step(np.array(actions)), sync.step(np.array(actions))
-        assert info.keys() == theirs.keys() and all(infos_alike(info[k], theirs[k]) for k in info)
+        assert infos_alike(info, theirs)
         counts += [len(events) for events in info["events"]]
     assert max(counts) > EVENTS_KEPT and min(counts) <= EVENTS_KEPT
     native.close()
@@ -1242,7 +1236,7 @@ def test_the_native_vector_on_worker_processes_steps_as_in_one_process(options):
                               **options)
     apart = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
                                workers=2, **options)
-    ends, last = _in_lockstep(here, apart, 11, None)
+    ends, last = _in_lockstep(here, apart, 11)
     assert ends == 6 and last.max() > 0  # each game cut at 400 frames, twice in 210 steps
     here.close()
     apart.close()

@@ -21,7 +21,7 @@ from hypothesis.stateful import RuleBasedStateMachine, initialize, precondition,
 
 import invaders.env  # noqa: F401  (registers the id)
 from invaders.env.space_invaders import SpaceInvadersEnv
-from tests.helpers import infos_alike
+from tests.helpers import vector_answers_alike
 
 ENV_ID = "invaders/SpaceInvaders-v0"
 # Steps of up to 1,500 frames (drawn by each game's generator), so that many steps have
@@ -130,10 +130,7 @@ class BatchesAlike(RuleBasedStateMachine):
         assert states[0] == states[1]
 
     def _alike(self, answers: list[tuple]) -> None:
-        """Each part of the two answers equal: arrays, and infos as Gymnasium merges them."""
-        for one, other in zip(*answers, strict=True):
-            assert infos_alike(one, other) if isinstance(one, dict) else np.array_equal(
-                one, other)
+        assert vector_answers_alike(*answers)
 
     def teardown(self) -> None:
         self.here.close()
