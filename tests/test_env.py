@@ -1224,6 +1224,32 @@ def test_the_native_vectors_games_are_called_and_set_as_in_gymnasiums_sync_one(w
     sync.close()
 
 
+@pytest.mark.parametrize("workers", [1, 2])
+def test_the_native_vectors_seeds_and_generators_are_its_games_as_in_gymnasiums_sync_one(
+        workers):
+    """`np_random_seed` and `np_random` are the games' own, as Gymnasium's vectors give
+    them (its tests ask for `seed + i` after a reset with an int seed, kept by a reset
+    with none): before a reset each game's drawn, then those reset give, partly too."""
+    native = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
+                                workers=workers, obs_type="state")
+    sync = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="sync", obs_type="state")
+    assert len(set(native.np_random_seed)) == 3
+    for venv in (native, sync):
+        venv.reset(seed=42)
+    assert native.np_random_seed == sync.np_random_seed == (42, 43, 44)
+    _step_alike(native, sync, np.array([1, 2, 3]))
+    for venv in (native, sync):
+        venv.reset()
+    assert native.np_random_seed == sync.np_random_seed == (42, 43, 44)
+    _reset_alike(native, sync, 7, np.array([False, True, False]))
+    assert native.np_random_seed == sync.np_random_seed == (42, 8, 44)
+    draws = [[generator.integers(2**62) for generator in venv.np_random]
+             for venv in (native, sync)]
+    assert draws[0] == draws[1] and len(set(draws[0])) == 3
+    native.close()
+    sync.close()
+
+
 @pytest.mark.parametrize("options", [{"obs_type": "state"},
                                      {"obs_type": "state", "context": "spawn"},
                                      {"obs_type": "grayscale", "resize": (84, 84), "stack": 2}],

@@ -157,6 +157,18 @@ class SpaceInvadersVectorEnv(VectorEnv):
     def get_attr(self, name: str) -> tuple[Any, ...]:
         return self.call(name)
 
+    # (read-only, and tuples where the base class has one of each: as Gymnasium's vectors)
+    @property
+    def np_random_seed(self) -> tuple[int, ...]:  # type: ignore[override]
+        """The games' seeds, as Gymnasium's sync and async vectors give them (the base
+        class's is the seed of a generator of the batch's own, which no game draws from)."""
+        return self.get_attr("np_random_seed")
+
+    @property  # type: ignore[misc]
+    def np_random(self) -> tuple[np.random.Generator, ...]:  # type: ignore[override]
+        """The games' generators (on workers, copies), as Gymnasium's vectors give them."""
+        return self.get_attr("np_random")
+
     def set_attr(self, name: str, values: list[Any] | tuple[Any, ...] | Any) -> None:
         """Each game's attribute `name` set: to the value a game of the list or tuple, or
         to the one value given."""
