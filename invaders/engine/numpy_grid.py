@@ -45,10 +45,12 @@ class Boxes:
     def __init__(self, slot: dict[int, int]) -> None:
         self.n = 0
         self.slot = slot  # body id -> row, shared by the kinds' tables (ids are unique)
-        self.xy = np.zeros((64, 4), dtype=np.int64)  # x0, y0, x1, y1
-        self.ids = np.zeros(64, dtype=np.int64)  # each row's body id, for sorting in bulk
-        self.objects = np.empty(64, dtype=object)  # the body of each row, picked in bulk
-        self.swept_at = np.full(64, -1, dtype=np.int64)  # tick a row's box spans a motion
+        # (typed as arrays of any shape: numpy's stubs give a made array's shape, in some
+        # versions, and then a concatenation's other than the array's)
+        self.xy: np.ndarray = np.zeros((64, 4), dtype=np.int64)  # x0, y0, x1, y1
+        self.ids: np.ndarray = np.zeros(64, dtype=np.int64)  # each row's id, to sort in bulk
+        self.objects: np.ndarray = np.empty(64, dtype=object)  # each row's body, picked in bulk
+        self.swept_at: np.ndarray = np.full(64, -1, dtype=np.int64)  # tick it spans a motion
         self.version = 0  # changes whenever a row does: cells worked out before are stale
         self._kept: dict[tuple[str, int], tuple[int, tuple]] = {}  # (what, cell): (version, it)
 
