@@ -276,7 +276,10 @@ def _runs(runs: tuple[bytes, ...]) -> tuple[np.ndarray, np.ndarray, list[int]] |
     About 1.4 times as fast as the JSON parser and lists over a block of a replay with the
     most input runs (medians of 25 rounds in turn, in one process, a script)."""
     text = b",".join(filter(None, runs)).translate(None, b"[]")
-    numbers = np.fromstring(text, np.int64, sep=",") if text else np.zeros(0, np.int64)
+    # (typed as an array of any shape: numpy 2.5's stubs give np.zeros(0)'s, and then no
+    # `max()` without arguments)
+    numbers: np.ndarray = (np.fromstring(text, np.int64, sep=",") if text
+                           else np.zeros(0, np.int64))
     each_line = np.cumsum([*map(bytes.count, runs, repeat(b"["))])  # (runs up to its end)
     if len(numbers) != 2 * (each_line[-1] if len(each_line) else 0) or (
             len(numbers) and numbers.max() > MAX_TICKS):
