@@ -13,6 +13,7 @@ on its own core, then sleeps.
 from __future__ import annotations
 
 import multiprocessing
+import pickle
 import signal
 import time
 from math import prod
@@ -219,7 +220,7 @@ class Pool:
         each worker's results. (Steps and resets check first that the last command was
         answered.)"""
         # (every message pickled before any worker is told: one that cannot be fails here)
-        messages = [None if command == "step" else bytes(ForkingPickler.dumps((command, argument)))
+        messages = [None if command == "step" else _message(command, argument)
                     for argument in arguments]
         self._waiting = True
         self._piped[0] = command != "step"
@@ -254,6 +255,18 @@ class Pool:
             elif answer is None and counts[start:stop].max() > EVENTS_KEPT:
                 spilled.update(worker.spilled())
         return spilled
+
+
+def _message(command: str, argument: Any) -> bytes:
+    """A command's message to a worker, pickled; one that cannot be is refused with a
+    PicklingError naming the command (Python's own error is of another type and says
+    another thing from one version to the next: up to 3.13 an AttributeError for a local
+    function, saying in 3.13 only that it "can't get" it)."""
+    try:
+        return bytes(ForkingPickler.dumps((command, argument)))
+    except (pickle.PicklingError, AttributeError, TypeError) as error:
+        raise pickle.PicklingError(f"{command}: what it gives cannot be pickled to go to a "
+                                   f"worker process ({error})") from error
 
 
 def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Specs,
