@@ -8,7 +8,7 @@ from setuptools.build_meta import *  # noqa: F403  (every hook as setuptools has
 
 # mypy (the version tests/test_types.py checks the core with), and what the core imports,
 # for their types.
-COMPILING = ["mypy==2.4.1", "pygame-ce>=2.4", "numpy>=1.24"]
+COMPILING = ["mypy==2.4.1", "pygame-ce>=2.5.6", "numpy>=1.24"]
 
 
 def get_requires_for_build_wheel(config_settings=None):
