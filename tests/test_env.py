@@ -1185,6 +1185,47 @@ def test_the_native_vector_resetting_within_the_step_plays_as_gymnasiums_sync_on
 
 
 @pytest.mark.parametrize("workers", [1, 2])
+@pytest.mark.parametrize("mode", list(AutoresetMode), ids=lambda mode: mode.value)
+def test_the_native_vector_cuts_episodes_at_max_episode_steps_as_gymnasiums_sync_one(
+        mode, workers):
+    """`max_episode_steps`, which Gymnasium's `make_vec` hands a vector entry point (its
+    sync vector wraps each game in `TimeLimit`): a game's episode is truncated at that
+    many steps since its reset, whole or partial, in each autoreset mode; the same as
+    the sync vector's step for step, beside episodes the frame limit ends first (frame
+    skips drawn from 2 to 6). -1 or None is no limit; others are refused as `TimeLimit`
+    refuses them."""
+    options = {"obs_type": "state", "frameskip": (2, 7), "max_num_frames_per_episode": 148,
+               "max_episode_steps": 37}
+    native = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point",
+                                workers=workers, autoreset_mode=mode, **options)
+    sync = gymnasium.make_vec(ENV_ID, num_envs=3, vectorization_mode="sync",
+                              vector_kwargs={"autoreset_mode": mode}, **options)
+    for venv in (native, sync):
+        venv.reset(seed=9)
+    rng, by_steps, by_frames = np.random.default_rng(9), 0, 0
+    for step in range(160):
+        if step == 20:  # (one game's count out of step with the others')
+            _reset_alike(native, sync, 9, np.array([False, True, False]))
+        _, _, _, truncated, info = _step_alike(native, sync, rng.integers(0, 6, 3))
+        frames = info.get("final_info", info)["episode_frame_number"][truncated]
+        by_steps += int((frames < 148).sum())
+        by_frames += int((frames == 148).sum())
+        if mode is AutoresetMode.DISABLED and truncated.any():
+            _reset_alike(native, sync, step, truncated)
+    assert by_steps >= 3 and by_frames >= 3
+    native.close()
+    sync.close()
+    unlimited = gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
+                                   obs_type="state", max_episode_steps=-1)
+    unlimited.reset(seed=1)
+    assert not any(unlimited.step(np.zeros(2, np.int64))[3].any() for _ in range(40))
+    for limit, error in ((0, ValueError), (2.5, TypeError), ("37", TypeError)):
+        with pytest.raises(error, match="max_episode_steps"):
+            gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
+                               obs_type="state", max_episode_steps=limit)
+
+
+@pytest.mark.parametrize("workers", [1, 2])
 def test_the_native_vectors_games_are_called_and_set_as_in_gymnasiums_sync_one(workers):
     """`call`, `get_attr` and `set_attr`, as Gymnasium's vectors have them: the games'
     answers in order (on workers pickled, a whole world's each), a value for each game

@@ -38,17 +38,21 @@ class SpaceInvadersVectorEnv(VectorEnv):
     Gymnasium's async vector does). A game whose episode ended resets at the next step
     (`autoreset_mode` NEXT_STEP, Gymnasium's default), within the step (SAME_STEP), or
     when the caller resets it (DISABLED: `reset(options={"reset_mask": ...})`), as in
-    Gymnasium's vectors."""
+    Gymnasium's vectors. `max_episode_steps` cuts each game's episodes short at that many
+    steps, as Gymnasium's `make_vec` asks of a vector entry point (its sync and async
+    vectors wrap each game in `TimeLimit`)."""
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}  # noqa: RUF012 (Gymnasium's)
 
     def __init__(self, num_envs: int = 8, copy: bool = True, workers: int = 1,
                  context: str | None = None,
                  autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
-                 **options: Any) -> None:
+                 max_episode_steps: int | None = None, **options: Any) -> None:
         if not (isinstance(num_envs, int) and num_envs >= 1):
             raise ValueError(f"num_envs {num_envs!r}: a whole number from 1")
         self.autoreset_mode = _autoreset_mode(autoreset_mode)
+        self._step_limit = _step_limit(max_episode_steps)
+        self._steps = np.zeros(num_envs, np.int64)  # each game's since its reset
         if not (isinstance(workers, int) and 1 <= workers <= num_envs):
             raise ValueError(f"workers {workers!r}: a whole number from 1 to num_envs")
         if workers > 1 and options.get("render_mode") is not None:
@@ -102,6 +106,7 @@ class SpaceInvadersVectorEnv(VectorEnv):
         if which is not None and not self._begun:
             raise RuntimeError("reset every game before some (options['reset_mask'])")
         self._games.reset(list(seeds), None if which is None else which.tolist())
+        self._steps[slice(None) if which is None else which] = 0
         self._begun = True
         return self._out(self._rows.obs), self._infos(which)
 
@@ -117,13 +122,28 @@ class SpaceInvadersVectorEnv(VectorEnv):
         if (actions.shape != (self.num_envs,) or actions.dtype.kind not in "iu"
                 or actions.min() < 0 or actions.max() >= self._action_count):
             raise ValueError(f"actions {actions!r} are not in {self.action_space}")
+        reset_now = self._rows.ended.copy()  # (NEXT_STEP: these reset in the step)
         self._games.step(actions.tolist())
+        self._cut_at_limit(reset_now)
         infos = self._infos()
         if self.autoreset_mode is AutoresetMode.SAME_STEP:
             infos = self._restart_ended(infos)
         rows = self._rows
         return (self._out(rows.obs), self._out(rows.rewards), self._out(rows.terminated),
                 self._out(rows.truncated), infos)
+
+    def _cut_at_limit(self, reset_now: np.ndarray) -> None:
+        """`max_episode_steps`, as Gymnasium's `TimeLimit` on each game: the steps since
+        each game's reset counted (none for one this step reset), and the episodes that
+        reach the limit truncated (so that, ended, they reset as the mode says)."""
+        if self._step_limit is None:
+            return
+        steps, rows = self._steps, self._rows
+        steps += 1
+        steps[reset_now] = 0
+        cut = steps >= self._step_limit
+        np.logical_or(rows.truncated, cut, out=rows.truncated)
+        np.logical_or(rows.ended, cut, out=rows.ended)
 
     def _restart_ended(self, infos: dict[str, Any]) -> dict[str, Any]:
         """SAME_STEP: the games whose episodes this step ended reset within it, as in
@@ -141,6 +161,7 @@ class SpaceInvadersVectorEnv(VectorEnv):
         final_info = self._infos(ended)
         kept = rows.rewards.copy(), rows.terminated.copy(), rows.truncated.copy()
         self._games.reset([None] * self.num_envs, ended.tolist())
+        self._steps[ended] = 0
         rows.rewards[:], rows.terminated[:], rows.truncated[:] = kept
         infos = _where(ended, self._infos(ended), infos)
         infos.update(final_obs=final_obs, _final_obs=ended, final_info=final_info,
@@ -243,6 +264,19 @@ def _reset_mask(options: dict[str, Any] | None, games: int) -> np.ndarray | None
         raise ValueError(f"options['reset_mask'] {which!r}: one bool a game ({games}), "
                          "one True at least")
     return which
+
+
+def _step_limit(asked: Any) -> int | None:
+    """`max_episode_steps` as Gymnasium's `make` takes it: None or -1 for no limit, else
+    a whole number from 1 (refused as its `TimeLimit` refuses one)."""
+    if asked is None or asked == -1:
+        return None
+    if not isinstance(asked, int):
+        raise TypeError(f"max_episode_steps {asked!r}: a whole number")
+    if asked <= 0:
+        raise ValueError(f"max_episode_steps {asked!r}: a whole number from 1 (-1 or None: "
+                         "no limit)")
+    return asked
 
 
 def _autoreset_mode(asked: Any) -> AutoresetMode:
