@@ -594,6 +594,42 @@ def test_a_forked_process_never_writes_its_parents_episode(tmp_path):
     assert [load(f).ticks for f in tmp_path.glob("*.json")] == [120]
 
 
+class Interrupting:
+    """An observer of a world's detection that raises KeyboardInterrupt inside tick `at`,
+    its moves made and its contacts not yet found nor answered: Ctrl-C at the worst
+    moment for a recording."""
+
+    def __init__(self, at: int) -> None:
+        self.at = at
+
+    def before(self, scene) -> None:
+        if scene.tick == self.at:
+            raise KeyboardInterrupt
+
+    def after(self, scene, candidates, contacts, stats) -> None:
+        pass
+
+
+@pytest.mark.parametrize("at", [130, 181])
+def test_an_episode_cut_off_inside_a_tick_is_written_up_to_its_last_checkpoint(tmp_path, at):
+    """A step cut off inside a tick (Ctrl-C) leaves the world half moved, where no
+    checkpoint can be made: the episode is written up to its last checkpoint, and replays
+    (written where the world stood, it did not); the next episode is recorded whole."""
+    env = SpaceInvadersEnv(obs_type="state", record=tmp_path)
+    env.reset(seed=5)
+    env.world.detector.observers.append(Interrupting(at))
+    with pytest.raises(KeyboardInterrupt):
+        for step in range(100):
+            env.step(1 + step % 5)
+    env.reset(seed=6)  # (the cut episode written, the next begun)
+    for _ in range(30):
+        env.step(2)
+    env.close()
+    cut, whole = (load(path).ticks for path in sorted(tmp_path.glob("*.json")))
+    assert (cut, whole) == (at // 60 * 60, 120)
+    assert main(["replay", str(tmp_path)]) == 0
+
+
 def test_an_episode_past_a_replays_limits_is_recorded_up_to_them_with_a_warning(
         tmp_path, monkeypatch, capsys):
     """The input runs a replay may hold lowered to 30 (a million in the program, which an

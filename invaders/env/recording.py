@@ -4,11 +4,13 @@ An episode is written when it ends, or when the next one begins, or at `close`; 
 script that never closes its environment (stopped by Ctrl-C or an error, or simply done),
 when the environment is dropped or the program ends: a finalizer (`weakref.finalize`)
 writes the episode in progress then, as `close` would (not in a process killed by a
-signal, which runs nothing more). Each file is written whole under a name no other file
-has (`write_new`): a reader never sees a torn one, and none is written over. An episode
-is recorded as the window's games are (`ReplayRecorder`), inside the limits a replay's
-reader keeps: past them (an episode without a frame limit, hours of play long), its
-recording stops, with a warning, and its file replays up to there.
+signal, which runs nothing more). An episode whose step was cut off inside a frame
+(Ctrl-C) is written up to its last checkpoint, where the game's state was whole. Each file
+is written whole under a name no other file has (`write_new`): a reader never sees a torn
+one, and none is written over. An episode is recorded as the window's games are
+(`ReplayRecorder`), inside the limits a replay's reader keeps: past them (an episode
+without a frame limit, hours of play long), its recording stops, with a warning, and its
+file replays up to there.
 """
 
 from __future__ import annotations
@@ -89,6 +91,12 @@ class EpisodeRecorder:
         """The tick just played, with these input bits."""
         if self.current is not None:  # (None: a state gone back to that was not recorded)
             self.current.tick(bits)
+
+    def cut_off(self) -> None:
+        """A step was cut off inside a tick: the episode's file ends at its last checkpoint
+        (`ReplayRecorder.cut_off`)."""
+        if self.current is not None:
+            self.current.cut_off()
 
     def save(self) -> None:
         """Write the episode played so far (once; nothing if no tick was recorded)."""

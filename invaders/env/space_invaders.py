@@ -246,14 +246,21 @@ class SpaceInvadersEnv(gym.Env):
         draw, sticky = self._draws.random, self.repeat_action_probability
         recorder, reports = self._recorder, []
         frames_left = self.frame_limit - self._episode_frames
-        for _ in range(self._skip()):
-            bits = self._previous if draw() < sticky else wanted
-            self._previous = bits
-            reports.append(world.step(bits))
+        try:
+            for _ in range(self._skip()):
+                bits = self._previous if draw() < sticky else wanted
+                self._previous = bits
+                reports.append(world.step(bits))
+                if recorder is not None:
+                    recorder.note(bits)
+                if world.phase is GAME_OVER or len(reports) == frames_left:
+                    break
+        except BaseException:
+            # Cut off inside a frame (Ctrl-C, say): the world may stand inside a tick, and
+            # an episode written then would not replay; its file ends at its last checkpoint.
             if recorder is not None:
-                recorder.note(bits)
-            if world.phase is GAME_OVER or len(reports) == frames_left:
-                break
+                recorder.cut_off()
+            raise
         self._episode_frames += len(reports)
         self.frame_number += len(reports)
         # (both, as ALE's, when the game ends on the limit's frame)

@@ -108,6 +108,14 @@ class ReplayRecorder:
             self._checkpoint()
         return self.replay
 
+    def cut_off(self) -> None:
+        """A step was cut off inside a tick (an exception raised in it: Ctrl-C, say), where
+        the world may stand half moved and no checkpoint can be made: the replay ends at its
+        last checkpoint, where the state was whole, and nothing more is recorded."""
+        if self.stopped is None:
+            self.stopped = (f"recording stopped at tick {self._last_tick}, its last "
+                            "checkpoint: a step after it was cut off inside a tick")
+
     def file_text(self) -> str:
         """The header and the lines not yet written (with `lines`): the whole file, while
         none of it has been written."""
