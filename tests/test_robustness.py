@@ -317,16 +317,29 @@ def test_saving_a_recording_costs_the_same_late_in_a_game_as_early(tmp_path):
     assert run(load(path))[0].mismatch is None
 
 
-def test_a_signal_ends_a_recorded_window_game_with_its_code_and_a_valid_file(
-        tmp_path, capsys, monkeypatch):
-    """A window game on a clock the test moves (a 60th of a second a frame) and a player
-    who fires, with SIGTERM arriving at frame 400: the game ends with 143, saved on a whole
-    tick (past two autosaves), and the file replays."""
+def on_the_tests_clock(monkeypatch, now: list[float]) -> None:
+    """The window's game on a clock the test moves (`now[0]`, in seconds), pygame's frame
+    pacing without waiting."""
     import types
 
     import pygame
 
     import invaders.app.play as play_module
+
+    class Paced:
+        def tick(self, fps: int = 0) -> int:
+            return 0
+
+    monkeypatch.setattr(play_module, "time", types.SimpleNamespace(perf_counter=lambda: now[0]))
+    monkeypatch.setattr(pygame.time, "Clock", Paced)
+
+
+def test_a_signal_ends_a_recorded_window_game_with_its_code_and_a_valid_file(
+        tmp_path, capsys, monkeypatch):
+    """A window game on a clock the test moves (a 60th of a second a frame) and a player
+    who fires, with SIGTERM arriving at frame 400: the game ends with 143, saved on a whole
+    tick (past two autosaves), and the file replays."""
+    import pygame
 
     now = [0.0]
     frames = [0]
@@ -339,13 +352,8 @@ def test_a_signal_ends_a_recorded_window_game_with_its_code_and_a_valid_file(
         key = pygame.KEYDOWN if frames[0] % 20 == 0 else pygame.KEYUP
         return [pygame.event.Event(key, key=pygame.K_SPACE, mod=0, unicode=" ", scancode=0)]
 
-    class Paced:  # pygame's frame pacing, without waiting
-        def tick(self, fps: int = 0) -> int:
-            return 0
-
-    monkeypatch.setattr(play_module, "time", types.SimpleNamespace(perf_counter=lambda: now[0]))
+    on_the_tests_clock(monkeypatch, now)
     monkeypatch.setattr(pygame.event, "get", events)
-    monkeypatch.setattr(pygame.time, "Clock", Paced)
     path = tmp_path / "played.json"
     assert main(["play", "--record", str(path), "--seed", "3"]) == 143
     out, err = capsys.readouterr()
@@ -507,3 +515,67 @@ def test_an_append_that_fails_says_how_many_ticks_the_file_keeps(tmp_path, capsy
     assert "the file keeps its first 3600 ticks" in err[0]
     replay = load(path)
     assert replay.ticks == 3600 and run(replay)[0].mismatch is None
+
+
+class FailingInTick:
+    """An observer of a world's detection that raises inside tick `at`, its moves made and
+    its contacts not yet found nor answered: an error (or a forced stop) mid-tick."""
+
+    def __init__(self, at: int) -> None:
+        self.at = at
+
+    def before(self, scene) -> None:
+        if scene.tick == self.at:
+            raise RuntimeError("a bug mid-tick")
+
+    def after(self, scene, candidates, contacts, stats) -> None:
+        pass
+
+
+def test_an_error_inside_a_tick_of_a_recording_run_saves_it_up_to_its_last_checkpoint(
+        tmp_path, capsys, monkeypatch):
+    """An internal error raised inside tick 1,000 (between its moves and its contacts)
+    ends a recording run with exit 3, and what is saved is the game up to its last
+    checkpoint, a replay that checks: where the world stood, half moved, no checkpoint can
+    be made (the one made there did not replay)."""
+    from invaders.lab.autopilot import Autopilot
+
+    plays = Autopilot.actions
+
+    def actions(self, world):
+        if world.tick == 990:
+            world.detector.observers.append(FailingInTick(1000))
+        return plays(self, world)
+
+    monkeypatch.setattr(Autopilot, "actions", actions)
+    path = tmp_path / "run.json"
+    assert main(["run", "--autopilot", "--ticks", "5000", "--record", str(path)]) == 3
+    assert "RuntimeError: a bug mid-tick" in capsys.readouterr().err
+    replay = load(path)
+    assert replay.ticks == 960 and run(replay)[0].mismatch is None
+
+
+def test_an_error_inside_a_tick_of_a_recorded_window_game_saves_it_up_to_its_last_checkpoint(
+        tmp_path, capsys, monkeypatch):
+    """The same in a window game on a clock the test moves: exit 3, and the file replays
+    up to the last checkpoint before the tick the error cut."""
+    import invaders.app.play as play_module
+
+    now, cut = [0.0], []
+    step = play_module.App.step
+
+    def stepped(app, *args, **kwargs):
+        now[0] += 1 / 60
+        world = app.session.world
+        if not cut and world.tick >= 300:
+            cut.append(world.tick + 10)
+            world.detector.observers.append(FailingInTick(cut[0]))
+        return step(app, *args, **kwargs)
+
+    on_the_tests_clock(monkeypatch, now)
+    monkeypatch.setattr(play_module.App, "step", stepped)
+    path = tmp_path / "played.json"
+    assert main(["play", "--record", str(path), "--seed", "3"]) == 3
+    assert "RuntimeError: a bug mid-tick" in capsys.readouterr().err
+    replay = load(path)
+    assert replay.ticks == cut[0] // 60 * 60 and run(replay)[0].mismatch is None

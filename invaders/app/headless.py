@@ -25,6 +25,8 @@ class Recording(Protocol):
 
     def tick(self, bits: int) -> None: ...
 
+    def cut_off(self) -> None: ...  # a tick was cut off: the recording ends at a whole one
+
 
 class InputSource(Protocol):
     def actions(self, world: World) -> int: ...
@@ -65,7 +67,12 @@ def run(world: World, source: InputSource, ticks: int, report: str | None = None
             if stop is not None and stop():
                 break
             bits = source.actions(world)
-            result = world.step(bits)
+            try:
+                result = world.step(bits)
+            except BaseException:
+                if recorder is not None:  # (half a tick played: saved up to a whole one)
+                    recorder.cut_off()
+                raise
             if recorder is not None:
                 recorder.tick(bits)
             table.add(result.stats)

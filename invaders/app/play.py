@@ -246,12 +246,17 @@ class Session:
                 bits = replayed
             while self.switches and self.switches[-1][0] == self.world.tick:
                 self._replay_switch(self.switches.pop()[1])
-            self.report = self.world.step(bits)
+            try:
+                self.report = self.world.step(bits)
+            except BaseException:
+                if self.recorder is not None:  # (half a tick played: saved up to a whole one)
+                    self.recorder.cut_off()
+                raise
+            if self.recorder is not None:
+                self.recorder.tick(bits)  # exactly what the tick used
             ran += 1
             if self.sounds is not None:
                 self.sounds.react(self.report.events, self.world)
-            if self.recorder is not None:
-                self.recorder.tick(bits)  # exactly what the tick used
             self._compare()
         checked = self.checkpoints.ticks()
         if self.inputs is not None and not self.replay_done and self.world.tick >= (
