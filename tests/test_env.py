@@ -8,6 +8,7 @@ import copy
 import errno
 import gc
 import hashlib
+import multiprocessing
 import os
 import pickle
 import random
@@ -513,10 +514,11 @@ import numpy as np
 import invaders.env  # noqa: F401
 
 how, folder = sys.argv[1], sys.argv[2]
-if how == "workers":
-    envs = gymnasium.make_vec("invaders/SpaceInvaders-v0", num_envs=3,
-                              vectorization_mode="vector_entry_point", workers=2,
-                              obs_type="state", record=folder)
+if how in ("workers", "async"):
+    envs = gymnasium.make_vec("invaders/SpaceInvaders-v0", num_envs=3, obs_type="state",
+                              record=folder, **({"vectorization_mode": "async"}
+                              if how == "async" else {"workers": 2,
+                              "vectorization_mode": "vector_entry_point"}))
     envs.reset(seed=4)
     for _ in range(25):
         envs.step(np.array([1, 2, 3]))
@@ -534,21 +536,52 @@ else:
 
 # (Python ends on an uncaught Ctrl-C by its own SIGINT, as the shell expects)
 @pytest.mark.parametrize(("how", "exit_code"), [("ended", 0), ("interrupted", -signal.SIGINT),
-                                                ("failed", 1), ("workers", 0)])
+                                                ("failed", 1), ("workers", 0), ("async", 0)])
 def test_a_script_that_never_closes_its_environment_loses_no_episode(how, exit_code,
                                                                      tmp_path, capsys):
     """A script that ends without closing: at its last line, stopped by Ctrl-C or by an
     error. The episode in progress is written as close writes it; so are those of the
-    native batch's games on workers, which the program's end would otherwise kill."""
+    native batch's games on workers, which the program's end would otherwise kill, and
+    those of Gymnasium's async vector, whose workers it ends by SIGTERM."""
     folder = tmp_path / "episodes"
     done = subprocess.run([sys.executable, "-c", UNCLOSED, how, str(folder)],
                           env={**os.environ, "SDL_VIDEODRIVER": "dummy"},
                           capture_output=True, text=True)
     assert done.returncode == exit_code, done.stderr
     files = sorted(folder.glob("*.json"))
-    assert [load(f).ticks for f in files] == ([100] * 3 if how == "workers" else [400])
+    assert [load(f).ticks for f in files] == ([100] * 3 if how in ("workers", "async")
+                                              else [400])
     assert main(["replay", str(folder)]) == 0
     assert capsys.readouterr().out.count("ok ") == len(files)
+
+
+def _sigterm_handler_after_recording(folder: str, own: bool, answers) -> None:
+    """In a child process: SIGTERM's handler once an environment records there (with
+    one of the process's own set before, or not)."""
+    if own:
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    SpaceInvadersEnv(obs_type="state", record=folder).close()
+    answers.put(repr(signal.getsignal(signal.SIGTERM)))
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="a child forked with this test's code")
+def test_only_a_child_process_without_its_own_handler_is_ended_by_sigterm_gently(tmp_path):
+    """An environment that records makes SIGTERM raise SystemExit only in a child process
+    (as Gymnasium's async vector's workers are) whose SIGTERM was the default: the main
+    process's signals are its program's, and a child's own handler is kept."""
+    before = signal.getsignal(signal.SIGTERM)
+    SpaceInvadersEnv(obs_type="state", record=tmp_path).close()
+    assert signal.getsignal(signal.SIGTERM) is before
+    context = multiprocessing.get_context("fork")
+    answers = context.Queue()
+    for own in (False, True):
+        child = context.Process(target=_sigterm_handler_after_recording,
+                                args=(str(tmp_path), own, answers))
+        child.start()
+        child.join()
+        assert child.exitcode == 0
+    assert "_exit" in answers.get(timeout=10)
+    assert answers.get(timeout=10) == repr(signal.SIG_IGN)
 
 
 def test_an_environment_dropped_unclosed_writes_its_episode_and_so_does_its_copy(tmp_path):

@@ -4,19 +4,22 @@ An episode is written when it ends, or when the next one begins, or at `close`; 
 script that never closes its environment (stopped by Ctrl-C or an error, or simply done),
 when the environment is dropped or the program ends: a finalizer (`weakref.finalize`)
 writes the episode in progress then, as `close` would (not in a process killed by a
-signal, which runs nothing more). An episode whose step was cut off inside a frame
-(Ctrl-C) is written up to its last checkpoint, where the game's state was whole. Each file
-is written whole under a name no other file has (`write_new`): a reader never sees a torn
-one, and none is written over. An episode is recorded as the window's games are
-(`ReplayRecorder`), inside the limits a replay's reader keeps: past them (an episode
-without a frame limit, hours of play long), its recording stops, with a warning, and its
-file replays up to there.
+signal, which runs nothing more; SIGTERM ends a worker process as an exit does:
+`exit_on_sigterm`). An episode whose step was cut off inside a frame (Ctrl-C) is written
+up to its last checkpoint, where the game's state was whole. Each file is written whole
+under a name no other file has (`write_new`): a reader never sees a torn one, and none is
+written over. An episode is recorded as the window's games are (`ReplayRecorder`), inside
+the limits a replay's reader keeps: past them (an episode without a frame limit, hours of
+play long), its recording stops, with a warning, and its file replays up to there.
 """
 
 from __future__ import annotations
 
+import multiprocessing
 import os
+import signal
 import tempfile
+import threading
 import warnings
 import weakref
 from collections.abc import Callable
@@ -71,8 +74,10 @@ class EpisodeRecorder:
 
     def watch(self, owner: object) -> None:
         """Write the episode in progress when `owner` (the environment recording) is
-        dropped, or when the program ends with it still there, unless written by then."""
+        dropped, or when the program ends with it still there, unless written by then; in
+        a worker process, when it is ended by SIGTERM too."""
         on_drop(owner, self.save)
+        exit_on_sigterm()
 
     def begin(self, world: World) -> None:
         """A new episode of `world` (the last one written first, if it was not)."""
@@ -109,6 +114,24 @@ class EpisodeRecorder:
         self.written += 1
         name = f"episode-{self.written:05d}-seed-{recording.replay.seed}.json"
         write_new(self.folder / name, recording.file_text())  # (never over another's)
+
+
+def exit_on_sigterm() -> None:
+    """In a child process, SIGTERM raises SystemExit instead of ending the process at once:
+    Gymnasium's async vector ends its workers by SIGTERM when it is dropped unclosed or the
+    program ends, and a worker ending by SystemExit closes its game (its own `finally`),
+    writing the episode in progress. Not in the main process, whose signals are its
+    program's, nor where the process has a SIGTERM handler of its own, nor outside its
+    main thread (where none can be set)."""
+    if (multiprocessing.parent_process() is None
+            or threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL):
+        return
+    signal.signal(signal.SIGTERM, _exit)
+
+
+def _exit(signum: int, frame: object) -> None:
+    raise SystemExit(128 + signum)  # (as a shell reports a signal: 143)
 
 
 def on_drop(owner: object, callback: Callable[[], None]) -> None:
