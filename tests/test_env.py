@@ -12,6 +12,7 @@ import multiprocessing
 import os
 import pickle
 import random
+import select
 import signal
 import subprocess
 import sys
@@ -506,6 +507,8 @@ def test_games_on_workers_record_their_episodes_when_closed(tmp_path, capsys):
 
 
 UNCLOSED = """
+import os
+import signal
 import sys
 
 import gymnasium
@@ -514,7 +517,7 @@ import numpy as np
 import invaders.env  # noqa: F401
 
 how, folder = sys.argv[1], sys.argv[2]
-if how in ("workers", "async"):
+if how in ("workers", "async", "killed"):
     envs = gymnasium.make_vec("invaders/SpaceInvaders-v0", num_envs=3, obs_type="state",
                               record=folder, **({"vectorization_mode": "async"}
                               if how == "async" else {"workers": 2,
@@ -522,6 +525,11 @@ if how in ("workers", "async"):
     envs.reset(seed=4)
     for _ in range(25):
         envs.step(np.array([1, 2, 3]))
+    if how == "killed":  # (its worker's pid and games, then killed as the OOM killer kills)
+        pool = envs.unwrapped._games
+        print(pool._workers[0].process.pid, pool._shares[0][1] - pool._shares[0][0],
+              flush=True)
+        os.kill(os.getpid(), signal.SIGKILL)
 else:
     env = gymnasium.make("invaders/SpaceInvaders-v0", obs_type="state", record=folder)
     env.reset(seed=0)
@@ -565,6 +573,29 @@ def _sigterm_handler_after_recording(folder: str, own: bool, answers) -> None:
 
 
 @pytest.mark.skipif(not hasattr(os, "fork"), reason="a child forked with this test's code")
+@pytest.mark.skipif(not hasattr(os, "pidfd_open"), reason="waits on a process it did not start")
+def test_the_batchs_workers_close_their_games_when_the_caller_is_killed(tmp_path, capsys):
+    """Killed (SIGKILL, as the kernel's OOM killer kills), the caller closes nothing: its
+    worker, waiting for the next command, sees that the caller is gone, closes its games
+    (their episodes in progress written) and ends, where it waited forever."""
+    folder = tmp_path / "episodes"
+    done = subprocess.run([sys.executable, "-c", UNCLOSED, "killed", str(folder)],
+                          env={**os.environ, "SDL_VIDEODRIVER": "dummy"},
+                          capture_output=True, text=True, timeout=120)  # (its output's
+    assert done.returncode == -signal.SIGKILL, done.stderr  # end is the worker's too)
+    pid, games = map(int, done.stdout.split())
+    try:
+        ended = os.pidfd_open(pid)
+    except ProcessLookupError:
+        pass  # (ended already)
+    else:
+        assert select.select([ended], [], [], 60)[0], "the worker outlived its caller"
+        os.close(ended)
+    files = sorted(folder.glob("*.json"))
+    assert [load(f).ticks for f in files] == [100] * games and games >= 1
+    assert main(["replay", str(folder)]) == 0
+
+
 def test_only_a_child_process_without_its_own_handler_is_ended_by_sigterm_gently(tmp_path):
     """An environment that records makes SIGTERM raise SystemExit only in a child process
     (as Gymnasium's async vector's workers are) whose SIGTERM was the default: the main

@@ -61,6 +61,19 @@ def _spin_then_take(semaphore: Any) -> bool:
     return True
 
 
+def _told_to_go(go: Any) -> bool:
+    """A worker's wait for the go (spinning a moment, then asleep); False if the caller's
+    process has ended meanwhile, which it checks every ALIVE_CHECK seconds asleep (as the
+    caller checks on its workers)."""
+    if _spin_then_take(go):
+        return True
+    caller = multiprocessing.parent_process()
+    while not go.acquire(timeout=ALIVE_CHECK):
+        if caller is not None and not caller.is_alive():
+            return False
+    return True
+
+
 class WorkerEnded(RuntimeError):
     """A worker process is gone (killed, or out of memory): its games with it."""
 
@@ -272,13 +285,17 @@ def _message(command: str, argument: Any) -> bytes:
 def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Specs,
           start: int, stop: int, options: dict[str, Any]) -> None:
     """A worker: its share of the games, stepped each time it is told to go, until told to
-    close. Ctrl-C is the caller's to handle (it closes the workers)."""
+    close, or until the caller's process is gone (killed: no close will come), when it
+    closes its games itself (their episodes in progress written) and ends. Ctrl-C is the
+    caller's to handle (it closes the workers)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     rows, actions, piped = _views(raws, specs)
     games: Games | None = None
     while True:
-        if not _spin_then_take(go):
-            go.acquire()
+        if not _told_to_go(go):
+            if games is not None:
+                games.close()
+            return
         argument: Any  # (the command's: a reset's seeds and which games)
         command, argument = conn.recv() if piped[0] else ("step", None)
         spilled: dict[int, list[Event]] = {}
