@@ -1135,8 +1135,11 @@ def _reset_alike(one, other, seed: int, which: np.ndarray) -> dict:
 
 
 @pytest.mark.parametrize("options", [{"obs_type": "state"}, {"obs_type": "grayscale"},
+                                     {"obs_type": "rgb"},
+                                     {"obs_type": "grayscale", "resize": (84, 84)},
                                      {"obs_type": "grayscale", "resize": (84, 84), "stack": 2}],
-                         ids=["state", "grayscale", "grayscale-84x84x2"])
+                         ids=["state", "grayscale", "rgb", "grayscale-84x84",
+                              "grayscale-84x84x2"])
 def test_the_native_vector_environment_steps_as_gymnasiums_sync_one(options):
     """The same games step for step, across episode ends (NEXT_STEP autoreset: the step
     after an end resets that game)."""
