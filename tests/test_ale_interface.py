@@ -159,3 +159,19 @@ def test_gymnasiums_play_takes_ales_keys():
                                "SDL_AUDIODRIVER": "dummy"}, timeout=60)
     assert done.returncode == 0, done.stderr
     assert done.stdout.split()[-7:] == ["2", "2", "2", "4", "4", "1", "1"]
+
+
+# ALE's keys for each of its 18 actions (ale_py's `get_keys_to_action`), in its order.
+ALE_KEYS = (("e",), (" ",), ("w",), ("d",), ("a",), ("s",), ("w", "d"), ("w", "a"),
+            ("s", "d"), ("s", "a"), ("w", " "), ("d", " "), ("a", " "), ("s", " "),
+            ("w", "d", " "), ("w", "a", " "), ("s", "d", " "), ("s", "a", " "))
+
+
+def test_the_keys_to_each_action_are_ales_in_both_action_sets():
+    """The same keys as ALE's environment gives, for the full set and the minimal one (its
+    NOOP, FIRE, RIGHT, LEFT, RIGHTFIRE, LEFTFIRE: actions 0, 1, 3, 4, 11, 12 of the 18)."""
+    full = SpaceInvadersEnv(full_action_space=True).get_keys_to_action()
+    assert full == {keys: action for action, keys in enumerate(ALE_KEYS)}
+    minimal = SpaceInvadersEnv().get_keys_to_action()
+    assert minimal == {ALE_KEYS[ale]: action
+                       for action, ale in enumerate((0, 1, 3, 4, 11, 12))}
