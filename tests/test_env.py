@@ -444,6 +444,77 @@ def test_recording_never_writes_over_an_episode_already_there(tmp_path):
     assert list(load(first).actions()) != list(load(second).actions())
 
 
+def test_an_episode_that_cannot_be_written_is_kept_until_it_can_be(tmp_path, monkeypatch):
+    """The disk full when two episodes end (every write failing as a full disk's does):
+    each end warns and play goes on; close raises, naming the two kept; with room again,
+    a second close writes both, in order, each the same file as a run with room all along
+    writes (the same seeds and actions)."""
+    from invaders.env import recording
+
+    def episodes(folder) -> SpaceInvadersEnv:
+        env = SpaceInvadersEnv(obs_type="state", record=folder, max_num_frames_per_episode=80)
+        for seed in (4, 5):
+            env.reset(seed=seed)
+            while not env.step(seed % 6)[3]:  # (truncated at 80 frames)
+                pass
+        return env
+
+    room = episodes(tmp_path / "room")
+    room.close()
+    full = [True]
+
+    def write_new_or_fail(path, text):
+        if full[0]:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return write_new(path, text)
+
+    monkeypatch.setattr(recording, "write_new", write_new_or_fail)
+    with pytest.warns(RuntimeWarning) as warned:
+        env = episodes(tmp_path / "full")
+    assert [str(w.message) for w in warned] == [
+        f"invaders: {n} recorded not written in {tmp_path / 'full'} (No space left on "
+        "device): kept, and written when the next episode ends or at close()"
+        for n in ("1 episode", "2 episodes")]
+    with pytest.raises(OSError, match="2 episodes recorded not written") as raised:
+        env.close()
+    assert raised.value.errno == errno.ENOSPC
+    assert list((tmp_path / "full").iterdir()) == []
+    full[0] = False
+    env.close()
+    written, expected = (sorted((tmp_path / run).iterdir()) for run in ("full", "room"))
+    assert [path.name for path in written] == [path.name for path in expected]
+    assert [path.read_text() for path in written] == [path.read_text() for path in expected]
+    assert [load(path).ticks for path in written] == [80, 80]
+
+
+def test_a_batch_closes_every_game_when_one_cannot_write_its_episode(tmp_path, monkeypatch):
+    """The first write fails (game 0's, at close): close raises it, having closed game 1
+    too (its episode written); game 0's is kept, and written when the batch is dropped."""
+    from invaders.env import recording
+
+    tries = []
+
+    def write_new_failing_first(path, text):
+        tries.append(path)
+        if len(tries) == 1:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return write_new(path, text)
+
+    monkeypatch.setattr(recording, "write_new", write_new_failing_first)
+    envs = SpaceInvadersVectorEnv(2, obs_type="state", record=tmp_path)
+    envs.reset(seed=3)
+    for _ in range(10):
+        envs.step(np.array([1, 2]))
+    seeds = [env.world.seed for env in envs.envs]
+    with pytest.raises(OSError, match="1 episode recorded not written"):
+        envs.close()
+    assert [load(path).seed for path in tmp_path.iterdir()] == seeds[1:]
+    del envs
+    gc.collect()
+    assert sorted(load(path).seed for path in tmp_path.iterdir()) == sorted(seeds)
+    assert [load(path).ticks for path in tmp_path.iterdir()] == [40, 40]
+
+
 def test_two_processes_recording_the_same_episode_keep_both(tmp_path):
     """Gymnasium's async vector, both games seeded alike: each process writes the same
     episode under the same name at the same moment; both files are kept, equal."""

@@ -160,8 +160,16 @@ class Games:
             env.set_wrapper_attr(name, value)
 
     def close(self) -> None:
+        """Every game closed, even where one fails (its episode unwritten): the first
+        failure raised then."""
+        failures = []
         for env in self.envs:
-            env.close()
+            try:
+                env.close()
+            except OSError as failure:
+                failures.append(failure)
+        if failures:
+            raise failures[0]
 
     def _note(self, i: int, env: SpaceInvadersEnv, reports: list[TickReport]
               ) -> tuple[int, ...]:

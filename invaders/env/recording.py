@@ -8,7 +8,9 @@ signal, which runs nothing more; SIGTERM ends a worker process as an exit does:
 `exit_on_sigterm`). An episode whose step was cut off inside a frame (Ctrl-C) is written
 up to its last checkpoint, where the game's state was whole. Each file is written whole
 under a name no other file has (`write_new`): a reader never sees a torn one, and none is
-written over. An episode is recorded as the window's games are (`ReplayRecorder`), inside
+written over. An episode whose file cannot be written (a full disk, a folder gone) is
+kept, with a warning, and written with the next one or at `close`, which raises if it
+still cannot be (kept while the process runs: a worker's end at close loses it). An episode is recorded as the window's games are (`ReplayRecorder`), inside
 the limits a replay's reader keeps: past them (an episode without a frame limit, hours of
 play long), its recording stops, with a warning, and its file replays up to there.
 """
@@ -54,7 +56,9 @@ class EpisodeRecorder:
         self.folder = folder
         self.limit = limit
         self.current: EpisodeRecording | None = None  # (None between episodes)
-        self.written = 0
+        self.ended = 0  # episodes ended with play in them: their files' numbers
+        # Ended episodes not yet written (the write failed), in order: each file's path and text.
+        self.unwritten: list[tuple[Path, str]] = []
 
     @classmethod
     def into(cls, record: str | Path | None) -> EpisodeRecorder | None:
@@ -104,16 +108,53 @@ class EpisodeRecorder:
             self.current.cut_off()
 
     def save(self) -> None:
-        """Write the episode played so far (once; nothing if no tick was recorded)."""
+        """End the episode played so far (nothing if no tick was recorded) and write it,
+        after any not written before; one that cannot be written (no room, say) is kept,
+        with those after it, for the next try, and a warning says so (once an episode)."""
+        ended = self._end()
+        failure = self._write()
+        if failure is not None and ended:
+            warnings.warn(f"{self._unwritten_said(failure)}: kept, and written when the next "
+                          "episode ends or at close()", RuntimeWarning, stacklevel=2)
+
+    def close(self) -> None:
+        """Save; raise the OSError if an episode still cannot be written (kept: another
+        close may write it)."""
+        self._end()
+        failure = self._write()
+        if failure is not None:
+            raise OSError(failure.errno, f"{self._unwritten_said(failure)}: kept while "
+                          "this process runs, for a close() once the folder can take them")
+
+    def _end(self) -> bool:
+        """The episode in progress ended and put to be written: whether there was one with
+        play in it."""
         recording, self.current = self.current, None
         if recording is None:
-            return
+            return False
         recording.finished()  # (closed with a checkpoint where it stands)
         if not recording.ticks:
-            return
-        self.written += 1
-        name = f"episode-{self.written:05d}-seed-{recording.replay.seed}.json"
-        write_new(self.folder / name, recording.file_text())  # (never over another's)
+            return False
+        self.ended += 1
+        name = f"episode-{self.ended:05d}-seed-{recording.replay.seed}.json"
+        self.unwritten.append((self.folder / name, recording.file_text()))
+        return True
+
+    def _write(self) -> OSError | None:
+        """Every ended episode written in turn: the failure that stopped it, if one did."""
+        while self.unwritten:
+            path, text = self.unwritten[0]
+            try:
+                write_new(path, text)  # (never over another's)
+            except OSError as failure:
+                return failure
+            del self.unwritten[0]
+        return None
+
+    def _unwritten_said(self, failure: OSError) -> str:
+        count = len(self.unwritten)
+        return (f"invaders: {count} episode{'s' if count > 1 else ''} recorded not written "
+                f"in {self.folder} ({failure.strerror or failure})")
 
 
 def exit_on_sigterm() -> None:

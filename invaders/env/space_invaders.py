@@ -323,11 +323,15 @@ class SpaceInvadersEnv(gym.Env):
         return None
 
     def close(self) -> None:
-        if self._recorder is not None:
-            self._recorder.save()
-        if self._window is not None:
-            pygame.display.quit()
-            self._window = None
+        """The episode in progress written (an OSError if an episode recorded still cannot
+        be: kept, for another close) and the window closed."""
+        try:
+            if self._recorder is not None:
+                self._recorder.close()
+        finally:
+            if self._window is not None:
+                pygame.display.quit()
+                self._window = None
 
     # --- inside ---------------------------------------------------------------------------
     def _skip(self) -> int:
