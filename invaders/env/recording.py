@@ -10,9 +10,10 @@ up to its last checkpoint, where the game's state was whole. Each file is writte
 under a name no other file has (`write_new`): a reader never sees a torn one, and none is
 written over. An episode whose file cannot be written (a full disk, a folder gone) is
 kept, with a warning, and written with the next one or at `close`, which raises if it
-still cannot be (kept while the process runs: a worker's end at close loses it). An episode is recorded as the window's games are (`ReplayRecorder`), inside
-the limits a replay's reader keeps: past them (an episode without a frame limit, hours of
-play long), its recording stops, with a warning, and its file replays up to there.
+still cannot be (kept while the process runs: a worker's end at close loses it). An
+episode is recorded as the window's games are (`ReplayRecorder`), inside the limits a
+replay's reader keeps: past them (an episode without a frame limit, hours of play long),
+its recording stops, with a warning, and its file replays up to there.
 """
 
 from __future__ import annotations
