@@ -444,6 +444,20 @@ def test_recording_never_writes_over_an_episode_already_there(tmp_path):
     assert list(load(first).actions()) != list(load(second).actions())
 
 
+def test_an_episode_without_a_frame_played_is_not_written(tmp_path):
+    """Reset twice, a step, a reset and close: of the three episodes begun, only the one
+    played is a file (numbered the first); a reset alone leaves nothing to replay."""
+    env = SpaceInvadersEnv(obs_type="state", record=tmp_path)
+    env.reset(seed=1)
+    env.reset(seed=2)
+    played = env.world.seed
+    env.step(1)
+    env.reset(seed=3)
+    env.close()
+    (path,) = tmp_path.iterdir()
+    assert path.name == f"episode-00001-seed-{played}.json" and load(path).ticks == 4
+
+
 def test_an_episode_that_cannot_be_written_is_kept_until_it_can_be(tmp_path, monkeypatch):
     """The disk full when two episodes end (every write failing as a full disk's does):
     each end warns and play goes on; close raises, naming the two kept; with room again,
