@@ -77,8 +77,9 @@ class Games:
         self.spilled: dict[int, list[Event]] = {}
 
     def reset(self, seeds: list[int | None], which: list[bool] | None = None) -> None:
-        """Every game anew, or those `which` names: the others' rows are left as they are
-        (a game that had ended still resets at the next step)."""
+        """Every game anew, or those `which` names (their observations, numbers and ends;
+        a reset hands out no reward, so the rewards are the steps' alone): the others' rows
+        are left as they are (a game that had ended still resets at the next step)."""
         rows = self.rows
         anew = np.ones(len(self.envs), np.bool_) if which is None else np.array(which)
         self.spilled = {}
@@ -88,7 +89,6 @@ class Games:
                 self._observe(i, env, first=True)
                 rows.numbers[i] = self._note(i, env, [])
         self._shrunk(anew, stepped=False)
-        rows.rewards[anew] = 0.0
         rows.terminated[anew] = rows.truncated[anew] = rows.ended[anew] = False
 
     def step(self, actions: list[int]) -> None:

@@ -159,10 +159,10 @@ class SpaceInvadersVectorEnv(VectorEnv):
         for i in np.flatnonzero(ended):
             final_obs[i] = rows.obs[i].copy()
         final_info = self._infos(ended)
-        kept = rows.rewards.copy(), rows.terminated.copy(), rows.truncated.copy()
+        kept = rows.terminated.copy(), rows.truncated.copy()  # (a reset clears them)
         self._games.reset([None] * self.num_envs, ended.tolist())
         self._steps[ended] = 0
-        rows.rewards[:], rows.terminated[:], rows.truncated[:] = kept
+        rows.terminated[:], rows.truncated[:] = kept
         infos = _where(ended, self._infos(ended), infos)
         infos.update(final_obs=final_obs, _final_obs=ended, final_info=final_info,
                      _final_info=ended)
