@@ -214,6 +214,7 @@ def test_rewards_add_up_to_the_score_and_the_episode_ends_at_game_over(agent):
     env.action_space.seed(3)
     pilot = Autopilot(4)
     _, info = env.reset(seed=4)
+    assert set(info["collisions"].values()) == {0}  # (no frame played)
     total, lives, terminated, steps = 0.0, info["lives"], False, 0
     while not terminated:
         world = env.world
@@ -222,7 +223,7 @@ def test_rewards_add_up_to_the_score_and_the_episode_ends_at_game_over(agent):
         score = world.score
         _, reward, terminated, truncated, info = env.step(action)
         assert reward == world.score - score and not truncated
-        assert info["lives"] <= lives and info["lives"] == max(world.ships, 0)
+        assert info["lives"] <= lives and info["lives"] == world.ships >= 0
         if reward:  # (a saucer's score comes after its explosion, a few frames on)
             assert {"ALIEN_KILLED", "SAUCER_SCORED"} & set(info["events"])
         if "ALIEN_KILLED" in info["events"]:
@@ -235,6 +236,7 @@ def test_rewards_add_up_to_the_score_and_the_episode_ends_at_game_over(agent):
         _, reward, terminated, truncated, info = env.step(action)
         assert (reward, terminated, truncated, info["events"]) == (0.0, True, False, ())
         assert env.world.tick == info["episode_frame_number"] == over_at
+        assert set(info["collisions"].values()) == {0}
 
 
 def test_sticky_actions_repeat_the_last_frames_input_with_ales_probability(tmp_path):
@@ -900,7 +902,8 @@ def test_bad_options_are_refused_in_one_line():
                     {"resize": (84.5, 84), "obs_type": "grayscale"},
                     {"resize": (True, 84), "obs_type": "grayscale"},
                     {"record": 123}, {"full_action_space": "yes"}, {"frameskip": True},
-                    {"frameskip": (1, True)}):
+                    {"frameskip": (1, True)}, {"frameskip": (2, 2)}, {"stack": 65},
+                    {"resize": (225, 84), "obs_type": "grayscale"}):
         with pytest.raises(ValueError, match=next(iter(options))):
             SpaceInvadersEnv(**options)
     with pytest.raises(ValueError, match="for ALE's RAM, 'state': the game's objects"):
@@ -919,6 +922,17 @@ def test_ales_default_mode_and_difficulty_are_taken_and_play_the_one_game(cartri
         rewards = [env.step(env.action_space.sample())[1] for _ in range(300)]
         played.append((rewards, env.unwrapped.world.state_hash()))
     assert played[0] == played[1] and sum(played[0][0]) > 0
+
+
+def test_the_frame_number_counts_on_across_episodes_until_a_seeded_reset():
+    """ALE's two counts: the episode's frames, and the frames since the game was loaded,
+    which a reset goes on from and a seeded reset (a load, in ALE) starts again."""
+    env = SpaceInvadersEnv(obs_type="state", max_num_frames_per_episode=40)
+    counts = [env.reset(seed=1)[1]]
+    counts += [env.step(0)[4] for _ in range(11)]  # (the last after the end: no frame)
+    counts += [env.reset()[1], env.step(0)[4], env.reset(seed=2)[1]]
+    assert [(info["episode_frame_number"], info["frame_number"]) for info in counts] == [
+        *((4 * step, 4 * step) for step in range(11)), (40, 40), (0, 40), (4, 44), (0, 0)]
 
 
 def test_an_episode_cut_short_is_truncated_not_terminated():

@@ -166,7 +166,7 @@ def _after(world: World) -> list[float]:
     flying = world.saucer.saucer
     values = [1.0, flying.x] if flying is not None else [0.0, 0.0]
     values += [bunker.mask.count() for bunker in world.bunkers]
-    values += (world.score, max(world.ships, 0), world.wave)
+    values += (world.score, world.ships, world.wave)
     return values
 
 

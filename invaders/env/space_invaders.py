@@ -180,9 +180,9 @@ class SpaceInvadersEnv(gym.Env):
 
     @property
     def lives(self) -> int:
-        """The ships left, as ALE's lives (the count goes below 0 when the last is lost)."""
+        """The ships left, as ALE's lives (0 once the last is lost: the game is over)."""
         assert self.world is not None
-        return max(self.world.ships, 0)
+        return self.world.ships
 
     def get_action_meanings(self) -> list[str]:
         return list(self._meanings)

@@ -313,7 +313,7 @@ def backdrop_key(world: World) -> tuple[object, ...]:
 def shown_ships(world: World) -> int:
     """The ships the bottom line shows: none once the rack has landed (the ROM erases the
     icons and prints 0, 16FF), whatever the count still holds."""
-    return 0 if world.invaded else max(world.ships, 0)
+    return 0 if world.invaded else world.ships
 
 
 def _lerp(body, tick: int, alpha: float) -> tuple[int, int]:
