@@ -34,6 +34,34 @@ def test_pygames_own_sprite_collision_tests_pass_with_ours_in_its_place(monkeypa
     assert result.wasSuccessful(), result.failures + result.errors
 
 
+@pytest.mark.parametrize("name, args", [("collide_circle", ()), ("collide_circle_ratio", (0.5,)),
+                                        ("collide_rect_ratio", (0.5,)),
+                                        ("collide_rect_ratio", (1.5,))])
+def test_each_predicate_answers_as_pygames_at_every_offset_touching_ones_among_them(name,
+                                                                                   args):
+    """Rects 8x3 and 5x12 (not square), radii 6 and 4 (their sum, and half of it, whole
+    numbers): at every whole offset from -16 to 16 each way, rects that overlap, touch
+    or part when scaled, and circles exactly their reach apart (10 and 5: the 3-4-5
+    triangle's offsets among them), ours answers as pygame's does."""
+    ours = getattr(collide, name)(*args) if args else getattr(collide, name)
+    theirs = getattr(pygame.sprite, name)(*args) if args else getattr(pygame.sprite, name)
+    first = Thing(0, 0, 8, 3)
+    first.radius = 6
+    answers, touching = [], 0
+    for dx in range(-16, 17):
+        for dy in range(-16, 17):
+            second = Thing(dx, dy, 5, 12)
+            second.radius = 4
+            answers.append(ours(first, second))
+            assert answers[-1] == theirs(first, second), (dx, dy)
+            gap = (first.rect.centerx - second.rect.centerx, first.rect.centery
+                   - second.rect.centery)
+            touching += gap[0] ** 2 + gap[1] ** 2 == (10 * (args or (1,))[0]) ** 2
+    assert 0 < sum(answers) < len(answers)
+    if "circle" in name:
+        assert touching >= 8
+
+
 class Thing(pygame.sprite.Sprite):
     def __init__(self, x: float, y: float, w: float, h: float, holes: int = 0,
                  seed: int = 0) -> None:
