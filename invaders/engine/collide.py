@@ -509,22 +509,27 @@ def _spans(boxes: list[pygame.Rect]) -> np.ndarray:
                      np.minimum(y, y + h), np.maximum(y, y + h)], axis=1)
 
 
-# FRects' corners and sizes within it, for their spans: float32 (an FRect's) rounds a sum
-# there by at most a quarter of a pixel, well inside `_covering`'s pixel each way.
+# FRects' corners and sizes within it, for their spans: every whole number up to twice it
+# is a float32, which `_covering` relies on.
 FLOAT_LIMIT = 2.0**22
 
 
 def _covering(boxes: list[Any]) -> np.ndarray | None:
-    """The spans (as `_spans` gives them) of whole pixels round each FRect, a pixel wider
-    each way: every box `colliderect` could say one meets, computing in float32, has a span
-    that overlaps or touches its own. None where a corner or size is past FLOAT_LIMIT or
-    no finite number. Invariant held by `tests/test_collide.py` against pygame's answers."""
+    """The spans (as `_spans` gives them) of the whole pixels round each FRect: its low
+    edges' floors, its high edges' ceilings. Every box `colliderect` says one meets has a
+    span that overlaps its own: it compares edges x and x + w summed in float32, rounded
+    to the nearest float32, and the whole numbers either side of such a sum are float32s
+    (FLOAT_LIMIT), so the sum it compares lies between the floor and the ceiling of the
+    sum taken here (in float64, nearer still). None where a corner or size is past
+    FLOAT_LIMIT or no finite number. Invariant held by `tests/test_collide.py` against
+    pygame's answers, on random boxes and on a grid of quarter pixels at 2**21 (a float32
+    step there); spans a pixel narrower at both ends fail it."""
     corners = np.array([tuple(box) for box in boxes], dtype=np.float64).reshape(-1, 4)
     if not (np.abs(corners) <= FLOAT_LIMIT).all():
         return None
     x, y, w, h = corners.T
-    return np.stack([np.floor(np.minimum(x, x + w)) - 1, np.ceil(np.maximum(x, x + w)) + 1,
-                     np.floor(np.minimum(y, y + h)) - 1, np.ceil(np.maximum(y, y + h)) + 1],
+    return np.stack([np.floor(np.minimum(x, x + w)), np.ceil(np.maximum(x, x + w)),
+                     np.floor(np.minimum(y, y + h)), np.ceil(np.maximum(y, y + h))],
                     axis=1).astype(np.int64)
 
 
