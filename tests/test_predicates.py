@@ -6,6 +6,7 @@ import itertools
 import random
 
 import pygame
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -30,13 +31,24 @@ def test_mask_offset_is_b_minus_a():
     assert predicates.mask_offset(10, 20, 13, 18) == (3, -2)
 
 
-def test_rects_touching_do_not_overlap_one_shared_pixel_does():
-    # a covers x 0..3; b starting at x=4 touches, at x=3 shares column 3.
-    assert not predicates.rects_overlap(0, 0, 4, 4, 4, 0, 4, 4)
-    assert predicates.rects_overlap(0, 0, 4, 4, 3, 0, 4, 4)
-    assert not predicates.rects_overlap(0, 0, 4, 4, 0, 4, 4, 4)
-    assert predicates.rects_overlap(0, 0, 4, 4, 0, 3, 4, 4)
+@pytest.mark.parametrize("side", [(1, 0), (-1, 0), (0, 1), (0, -1)])
+def test_rects_touching_do_not_overlap_one_shared_pixel_does(side):
+    # a covers x and y 0..3; b (4x4) 4 px off on a side touches it, 3 px off shares a row
+    # or column of pixels; either way round, as pygame's colliderect answers.
+    a = (0, 0, 4, 4)
+    touching = (4 * side[0], 4 * side[1], 4, 4)
+    sharing = (3 * side[0], 3 * side[1], 4, 4)
+    for first, second in ((a, touching), (touching, a)):
+        assert not predicates.rects_overlap(*first, *second)
+        assert not pygame.Rect(first).colliderect(second)
+    for first, second in ((a, sharing), (sharing, a)):
+        assert predicates.rects_overlap(*first, *second)
+        assert pygame.Rect(first).colliderect(second)
+
+
+def test_a_rect_of_one_pixel_overlaps_the_pixel_it_covers():
     assert predicates.rects_overlap(0, 0, 4, 4, 3, 3, 1, 1)  # the corner pixel alone
+    assert not predicates.rects_overlap(0, 0, 4, 4, 4, 3, 1, 1)
 
 
 def test_masks_touching_versus_one_pixel_overlap():
