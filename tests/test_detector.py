@@ -7,7 +7,10 @@ from __future__ import annotations
 
 import pygame
 import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
 
+from invaders.engine import predicates
 from invaders.engine.body import Body
 from invaders.engine.broadphase import Brute
 from invaders.engine.detector import Detector
@@ -88,3 +91,85 @@ def test_counters_and_contacts_are_built_whole():
     contacts, stats = Detector(Grid(), _rules()).detect(store)
     assert len(stats) == len(CollisionStats._fields) and stats.contacts == 1
     assert len(contacts[0]) == len(Contact._fields)
+
+
+DOT = pygame.mask.Mask((4, 4))  # a 4x4 box with its top-left pixel alone lit
+DOT.set_at((0, 0))
+
+
+def _stats_at(detector: Detector, store: BodyStore, moves: dict[int, tuple[int, int]]
+              ) -> CollisionStats:
+    """The next tick's counters, the bodies `moves` names moved to their places a tick
+    before it (a body's box over a tick covers where it went from)."""
+    for tick in range(2):
+        store.tick += 1
+        for body_id, (x, y) in (moves if tick == 0 else {}).items():
+            store.move(store.by_id[body_id], x, y)
+        stats = detector.detect(store)[1]
+    return stats
+
+
+@pytest.mark.parametrize("make", [Grid, CellRects], ids=["grid", "rects"])
+def test_the_counters_count_a_zones_pairs_on_every_tick(make):
+    """A probe (kind 1) and a target whose box it meets but not its pixel (kind 2), plus
+    a body of kind 3 that the rules pair with the probe only inside a zone, coming into
+    it and going out: every tick's counters, field by field, counted by hand. The pairs
+    the zone allows count whether or not any is a candidate, and a tick's counters are
+    never those of a tick that had other zoned pairs."""
+    rules = RuleTable((PairRule(1, 2, Shape.MASK, Shape.MASK, Motion.DISCRETE),
+                       PairRule(1, 3, Shape.BOX, Shape.BOX, Motion.DISCRETE,
+                                zone=((0, 0, 50, 50),))))
+    store = BodyStore((1, 2, 3))
+    store.add(Body(store.new_id(), 1, 0, 0, DOT))  # 1: the probe
+    store.add(Body(store.new_id(), 2, 2, 2, BLOCK))  # 2: boxes meet, pixels do not
+    store.add(Body(store.new_id(), 3, 40, 40, BLOCK))  # 3: in the zone, far from the probe
+    detector = Detector(make(16), rules)
+    #         objects, naive, allowed, candidates, rect tests and hits, mask tests and
+    #         hits, swept tests, contacts
+    near = CollisionStats(3, 3, 1, 1, 1, 1, 1, 0, 0, 0)
+    assert detector.detect(store)[1] == near._replace(allowed_pairs=2)
+    assert _stats_at(detector, store, {3: (300, 300)}) == near  # out of the zone
+    parted = near._replace(rect_hits=0, mask_tests=0)  # the target a pixel past the box
+    assert _stats_at(detector, store, {2: (4, 4), 3: (40, 40)}) == parted._replace(
+        allowed_pairs=2)
+    assert _stats_at(detector, store, {3: (300, 300)}) == parted
+    alone = CollisionStats(3, 3, 1)  # the target far: no candidate
+    assert _stats_at(detector, store, {2: (100, 0)}) == alone
+    assert _stats_at(detector, store, {3: (40, 40)}) == alone._replace(allowed_pairs=2)
+    assert _stats_at(detector, store, {2: (0, 0)}) == near._replace(
+        allowed_pairs=2, mask_hits=1, contacts=1)
+
+
+PLACES = st.tuples(st.integers(-5, 5), st.integers(-5, 5))
+SIZES = st.tuples(st.integers(1, 3), st.integers(1, 3))
+
+
+@settings(max_examples=1000)
+@example(sizes=((1, 1), (2, 1)), starts=((0, 0), (-2, 0)), ends=((0, 0), (-4, 0)), swept=True)
+@example(sizes=((1, 1), (1, 2)), starts=((0, 0), (0, -2)), ends=((0, 0), (0, -4)), swept=True)
+@given(sizes=st.tuples(SIZES, SIZES), starts=st.tuples(PLACES, PLACES),
+       ends=st.tuples(PLACES, PLACES), swept=st.booleans())
+def test_the_quick_test_passes_a_pair_exactly_when_its_boxes_meet(sizes, starts, ends,
+                                                                  swept):
+    """Step 2 on one pair of moving boxes (every pair a candidate): passed when their
+    boxes meet at the tick's end or, swept, when b's box swept along the pair's relative
+    motion meets a's (`swept_box_overlap`): never a pair more or less."""
+    motion = Motion.SWEPT if swept else Motion.DISCRETE
+    detector = Detector(Brute(), RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, motion),)))
+    store = BodyStore((1, 2))
+    bodies = [Body(store.new_id(), kind, *start, pygame.mask.Mask(size, fill=True))
+              for kind, start, size in zip((1, 2), starts, sizes, strict=True)]
+    for body in bodies:
+        store.add(body)
+    store.tick += 1
+    for body, end in zip(bodies, ends, strict=True):
+        store.move(body, *end)
+    (aw, ah), (bw, bh) = sizes
+    (ax0, ay0), (bx0, by0) = starts
+    (ax1, ay1), (bx1, by1) = ends
+    if swept:
+        meet = predicates.swept_box_overlap(aw, ah, bw, bh, bx0 - ax0, by0 - ay0,
+                                            bx1 - bx0 - (ax1 - ax0), by1 - by0 - (ay1 - ay0))
+    else:
+        meet = predicates.rects_overlap(ax1, ay1, aw, ah, bx1, by1, bw, bh)
+    assert detector.detect(store)[1].rect_hits == meet
