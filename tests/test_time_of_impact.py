@@ -10,7 +10,9 @@ from fractions import Fraction
 from hypothesis import given
 from hypothesis import strategies as st
 
-from invaders.engine.response import first_contacts
+from invaders.engine.body import Body
+from invaders.engine.predicates import solid_mask
+from invaders.engine.response import first_contacts, respond
 from invaders.engine.rules import PairRule
 from invaders.engine.stats import Contact, contact_order, contact_time
 from invaders.game.actions import Action
@@ -182,6 +184,29 @@ def test_first_contacts_drop_only_what_a_spent_side_touches_later():
                 _contact(Fraction(1, 2), 30, 40, paints), _contact(Fraction(1), 11, 30, erodes)]
     kept = first_contacts(contacts)
     assert [(c.a_id, c.b_id) for c in kept] == [(10, 30), (30, 40), (11, 30)]
+
+
+def test_a_body_a_response_killed_takes_part_in_no_later_contact():
+    """A response may end a body its entry does not spend (a blast killing a third body):
+    a later contact of that body in the tick is not answered, whether the body is still
+    in the mapping (dead) or gone from it; the others are, in order."""
+    bodies = {i: Body(i, kind, 0, 0, solid_mask(1, 1))
+              for i, kind in ((10, 1), (20, 2), (30, 3), (35, 3), (40, 4), (50, 3))}
+    answered = []
+
+    def blast(context, a, b, contact) -> None:
+        answered.append((a.id, b.id))
+        bodies[30].alive = False
+        del bodies[50]
+
+    def paint(context, a, b, contact) -> None:
+        answered.append((a.id, b.id))
+
+    blasts, paints = PairRule(1, 2, response=blast), PairRule(3, 4, response=paint)
+    contacts = [_contact(Fraction(1, 4), 10, 20, blasts), _contact(Fraction(1, 2), 30, 40, paints),
+                _contact(Fraction(1, 2), 40, 50, paints), _contact(Fraction(1), 35, 40, paints)]
+    applied = respond(contacts, bodies, None)
+    assert [(c.a_id, c.b_id) for c in applied] == answered == [(10, 20), (35, 40)]
 
 
 def test_a_same_kind_entry_spends_by_its_sides_low_id_first():
