@@ -358,12 +358,15 @@ def test_the_store_reports_a_move_only_when_the_box_leaves_its_fence():
     for tick, move in ((1, lambda: store.move(body, 12, 12)),  # 12..16: inside
                        (1, lambda: store.move(body, 13, 12)),  # 13..17: out, same tick
                        (2, lambda: store.move_from(body, 8, 8, 4, 4)),  # both ends inside
-                       (3, lambda: store.move_from(body, 20, 0, 4, 4))):  # from outside
+                       (3, lambda: store.move_from(body, 20, 0, 4, 4)),  # from outside:
+                       (4, lambda: store.move_from(body, -8, 4, 4, 4)),  # the right, left,
+                       (5, lambda: store.move_from(body, 4, 20, 4, 4)),  # below
+                       (6, lambda: store.move_from(body, 4, -8, 4, 4))):  # and above
         store.tick = tick
         move()
         heard.append(len(buffer))
         buffer.clear()
-    assert heard == [0, 1, 0, 1]
+    assert heard == [0, 1, 0, 1, 1, 1, 1]
 
 
 def test_the_numpy_broad_phase_hears_every_move_of_a_body_the_grid_fenced():

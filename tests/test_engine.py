@@ -53,6 +53,35 @@ BAR_LOST = mask("#", ".")  # loses a pixel: nothing new to touch
 BAR_MOVED = mask(".", "#", "#")  # gains one below
 
 
+BLOCK = mask(*["####"] * 4)
+
+
+def test_bodies_added_in_any_order_are_kept_in_id_order():
+    """Contacts of a tick tie-break by their pairs' id order, which the store's lists keep:
+    a body that comes back (a lower id than the last) goes in its place."""
+    store = BodyStore((1,))
+    bodies = [Body(store.new_id(), 1, 8 * i, 0, BLOCK) for i in range(4)]
+    for body in (bodies[2], bodies[0], bodies[3], bodies[1]):
+        store.add(body)
+    store.remove(bodies[0])
+    store.add(bodies[0])
+    assert [body.id for body in store.by_kind[1]] == [1, 2, 3, 4]
+
+
+def test_a_body_added_with_a_start_meets_what_it_touched_there():
+    """A body that appears during a tick, moving from `start` (a sprite first seen with its
+    last place): a body it touched at that first instant, and left at once, is met then
+    (time 0), as a body already there would be."""
+    store = BodyStore((1, 2))
+    store.add(Body(store.new_id(), 2, 0, 0, BLOCK))  # the target: x 0..3
+    store.tick = 5
+    store.add(Body(store.new_id(), 1, 20, 0, BLOCK), start=(3, 0))  # from x 3..6
+    detector = Detector(Brute(), RuleTable((PairRule(1, 2, motion=Motion.SWEPT),)))
+    contacts, _ = detector.detect(store)
+    assert [(contact.a_id, contact.b_id, contact.time, contact.bx) for contact in contacts] == [
+        (1, 2, 0, 3)]
+
+
 def test_a_picture_gains_pixels_only_if_it_lights_one_the_old_did_not():
     assert not gains_pixels(BAR, BAR_LOST)
     assert gains_pixels(BAR_LOST, BAR)
