@@ -79,6 +79,38 @@ def test_grid_and_brute_give_identical_contacts_in_identical_order(bodies, cell)
     assert after.count(after[0]) == 4
 
 
+@pytest.mark.parametrize("make", [Grid, CellRects, SortAndSweep, NumpyGrid, Adaptive])
+def test_every_broad_phase_meets_bodies_that_come_back_or_appear_far_in_id_order(make):
+    """Nine targets in a row, met by three lone probes of their own entries, the entries'
+    order not the ids': the contacts, ties in id order, are brute force's when a target
+    appears far from the others (past the box round them all) and one that left comes
+    back with its old id (in its place among their lists)."""
+    from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
+    from invaders.engine.store import BodyStore
+
+    block = art.mask_of(("########",) * 8)
+    rules = RuleTable(tuple(PairRule(kind, 2, Shape.BOX, Shape.BOX, Motion.DISCRETE)
+                            for kind in (1, 3, 4)))
+    store = BodyStore((1, 2, 3, 4))
+    targets = [Body(store.new_id(), 2, 10 * i, 0, block) for i in range(9)]  # ids 1 to 9
+    for kind, x in ((3, 0), (1, 80), (4, 500)):  # ids 10, 11, 12: on targets 1, 9, none
+        targets.append(Body(store.new_id(), kind, x, 0, block))
+    for body in targets:
+        store.add(body)
+    ours, brute = Detector(make(), rules), Detector(Brute(), rules)
+    met = []
+    for change in (lambda: None,
+                   lambda: store.add(Body(store.new_id(), 2, 500, 0, block)),  # far: id 13
+                   lambda: store.remove(targets[4]),
+                   lambda: store.add(targets[4])):  # id 5 back
+        change()
+        contacts = ours.detect(store)[0]
+        assert contacts == brute.detect(store)[0]
+        met.append([(contact.a_id, contact.b_id) for contact in contacts])
+        store.tick += 1
+    assert met == [[(1, 10), (9, 11)]] + [[(1, 10), (9, 11), (12, 13)]] * 3
+
+
 def test_every_broad_phase_agrees_tick_by_tick_in_a_game():
     worlds = [World(seed=11, detector=Detector(b, GAME_RULES))
               for b in (Grid(), CellRects(), Brute(), SortAndSweep(), NumpyGrid(), Adaptive())]
