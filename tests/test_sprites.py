@@ -116,10 +116,55 @@ def test_contacts_know_their_time_and_a_spent_bullet_stops_at_the_first_target()
     assert collider.stats.swept_tests == 2  # both were tested; the near one came first
 
 
+def test_a_sprite_that_says_it_came_from_elsewhere_is_swept_from_there():
+    """Where it is now is where it was: its `last_rect` alone says it went from rows
+    70-75 back to 90-95 this frame, through the wall."""
+    bullet = Bullet(50, 90)
+    wall = Thing(40, 80, mask(*["#" * 20] * 3))
+    groups = pygame.sprite.Group(bullet), pygame.sprite.Group(wall)
+    collide = GroupCollide()
+    assert collide(*groups) == {}
+    bullet.last_rect = bullet.rect.move(0, -20)
+    assert collide(*groups) == {bullet: [wall]}
+
+
+def test_a_sprite_that_changes_its_picture_is_met_by_the_new_one():
+    """An animation's frames as masks put on the sprite in turn: each frame's pixels."""
+    walker, target = Thing(0, 0, mask("##..", "##..")), Thing(2, 0, mask("##", "##"))
+    groups = pygame.sprite.Group(walker), pygame.sprite.Group(target)
+    collide = GroupCollide()
+    found = []
+    for frame in (mask("##..", "##.."), mask("..##", "..##"), mask("##..", "##..")):
+        walker.mask = frame
+        found.append(collide(*groups))
+        assert found[-1] == pygame.sprite.groupcollide(*groups, False, False,
+                                                       pygame.sprite.collide_mask)
+    assert found == [{}, {walker: [target]}, {}]
+
+
+def test_the_hits_come_in_the_groups_order_as_pygames_not_the_contacts():
+    """Contacts come earliest first, groupcollide's answer in the groups' order: a block
+    on its target from the start (the earliest contact) and a bullet that meets the lower
+    of two targets before the higher come back as pygame orders them."""
+    bullet = Bullet(50, 90)  # rows 90-95, then 80-85
+    block, lid = Thing(100, 80, mask("##", "##")), Thing(100, 80, mask("##", "##"))
+    high = Thing(40, 80, mask(*["#" * 20] * 2))  # rows 80-81
+    low = Thing(40, 84, mask(*["#" * 20] * 2))  # rows 84-85
+    movers, targets = pygame.sprite.Group(bullet, block), pygame.sprite.Group(high, low, lid)
+    collide = GroupCollide()
+    collide(movers, targets)
+    bullet.update(-10)
+    ours = collide(movers, targets)
+    theirs = pygame.sprite.groupcollide(movers, targets, False, False,
+                                        pygame.sprite.collide_mask)
+    assert ours == theirs == {bullet: [high, low], block: [lid]}
+    assert list(ours) == list(theirs)
+
+
 def test_sprites_without_masks_are_their_rects():
-    a = Thing(0, 0, None, 10, 10)
-    b = Thing(9, 9, None, 5, 5)
-    c = Thing(10, 0, None, 5, 5)
+    a = Thing(0, 0, None, 12, 3)  # wider than tall: x 0-11, rows 0-2
+    b = Thing(10, 1, None, 5, 5)
+    c = Thing(0, 4, None, 5, 5)
     found = GroupCollide()(pygame.sprite.Group(a), pygame.sprite.Group(b, c))
     assert found == pygame.sprite.groupcollide(pygame.sprite.Group(a),
                                                pygame.sprite.Group(b, c), False, False)
