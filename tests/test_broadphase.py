@@ -111,6 +111,54 @@ def test_every_broad_phase_meets_bodies_that_come_back_or_appear_far_in_id_order
     assert met == [[(1, 10), (9, 11)]] + [[(1, 10), (9, 11), (12, 13)]] * 3
 
 
+@pytest.mark.parametrize("make", [Grid, CellRects, SortAndSweep, NumpyGrid, Adaptive])
+def test_every_broad_phase_pairs_a_kind_with_itself_once_and_never_a_body_with_itself(make):
+    """An entry of one kind (bodies that meet their own, as billiard balls): each pair of
+    two that touch once, low id first, and no body met by itself; the pairs it allows
+    counted so. (Every broad phase met each body by itself and each pair twice: found by
+    this test.)"""
+    from invaders.engine.rules import PairRule, RuleTable
+    from invaders.engine.store import BodyStore
+
+    block = art.mask_of(("####",) * 4)
+    rules = RuleTable((PairRule(1, 1),))
+    store = BodyStore((1,))
+    for x in (0, 2, 20, 22, 40):  # ids 1 to 5: 1 on 2, 3 on 4, 5 alone
+        store.add(Body(store.new_id(), 1, x, 0, block))
+    contacts, stats = Detector(make(), rules).detect(store)
+    assert contacts == Detector(Brute(), rules).detect(store)[0]
+    assert [(contact.a_id, contact.b_id) for contact in contacts] == [(1, 2), (3, 4)]
+    assert stats.allowed_pairs == 10 == stats.naive_pairs  # (5 bodies: each two once)
+
+
+@pytest.mark.parametrize("make", [Grid, CellRects, SortAndSweep, NumpyGrid, Adaptive])
+def test_bodies_that_crossed_a_zone_and_stopped_outside_it_are_out_of_it(make):
+    """Two bodies cross a zone in one tick and land on each other outside it: they meet
+    in that tick (the zone holds their motion), and in the next, at rest outside, they
+    do not, whatever box a broad phase keeps for them from the tick before."""
+    from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
+    from invaders.engine.store import BodyStore
+
+    block = art.mask_of(("####",) * 4)
+    rules = RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, Motion.SWEPT,
+                                zone=((0, 0, 20, 20),)),))
+    store = BodyStore((1, 2))
+    bodies = [Body(store.new_id(), kind, 4, 4 * kind, block) for kind in (1, 2)]
+    for body in bodies:
+        store.add(body)
+    ours, brute = Detector(make(), rules), Detector(Brute(), rules)
+    met = []
+    for tick in range(3):
+        store.tick = tick
+        if tick == 1:
+            for body in bodies:
+                store.move(body, 100, 0)
+        contacts = ours.detect(store)[0]
+        assert contacts == brute.detect(store)[0]
+        met.append(len(contacts))
+    assert met == [0, 1, 0]  # (apart at first: side by side)
+
+
 def test_every_broad_phase_agrees_tick_by_tick_in_a_game():
     worlds = [World(seed=11, detector=Detector(b, GAME_RULES))
               for b in (Grid(), CellRects(), Brute(), SortAndSweep(), NumpyGrid(), Adaptive())]

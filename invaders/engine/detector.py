@@ -21,7 +21,7 @@ import pygame
 
 from invaders.engine import predicates
 from invaders.engine.body import Body, tick_box
-from invaders.engine.broadphase import BroadPhase, Group, KindSets, Pair, Scene
+from invaders.engine.broadphase import BroadPhase, Group, KindSets, Pair, Scene, once_each
 from invaders.engine.compiled import mypyc_attr
 from invaders.engine.rules import Motion, PairRule, RuleTable, Zone
 from invaders.engine.stats import CollisionStats, Contact, contact_time, impact_time
@@ -141,6 +141,7 @@ class Detector:
         self.observers: list[DetectionObserver] = []
         self._table = tuple((rule, rule.a, rule.b, None if rule.zone is None
                              else ZoneIndex(rule.zone)) for rule in rules)
+        self._one_kind = any(rule.a == rule.b for rule in rules)  # an entry's sides alike
         self._plan = Plan(0, [], [], 0, 0, CollisionStats(), {})  # membership 0: no store's
         # The groups for each set of kinds present (a bit per kind), for one store: they
         # hold that store's own lists of bodies, which it keeps for its life, so they stay
@@ -243,8 +244,8 @@ class Detector:
             grouped = self._grouped[store.present] = self._group(store)
         groups, zoned = grouped
         allowed = 0
-        for _, side_a, side_b in groups:
-            allowed += len(side_a) * len(side_b)
+        for rule, side_a, side_b in groups:
+            allowed += _allowed(rule, side_a, side_b)
         n = store.size
         self._plan = Plan(store.membership, groups, zoned, n, allowed,
                           CollisionStats(n, n * (n - 1) // 2, allowed), {})
@@ -280,6 +281,8 @@ class Detector:
         if groups is self._asked and not heard:
             return self._answer, allowed  # nothing heard since these groups were asked
         pairs = broadphase.pairs(store, groups, self.kinds)
+        if self._one_kind:
+            pairs = once_each(pairs)
         if broadphase.move_buffer is not None:  # (one that keeps no state answers afresh)
             self._asked, self._answer = groups, pairs
         return pairs, allowed
@@ -298,7 +301,7 @@ class Detector:
                 if groups is plan.groups:
                     groups = list(groups)
                 groups.insert(place - skipped, (rule, side_a, side_b))
-                allowed += len(side_a) * len(side_b)
+                allowed += _allowed(rule, side_a, side_b)
             else:
                 skipped += 1
         return groups, allowed
@@ -407,6 +410,13 @@ class Detector:
             hx, hy = bx + hx, by + hy
         return Contact(tick, impact_time(step, steps), a.id, b.id, a.kind, b.kind,
                        ax, ay, bx, by, hx, hy, rule)
+
+
+def _allowed(rule: PairRule, side_a: Sequence[Body], side_b: Sequence[Body]) -> int:
+    """The pairs an entry's sides allow: each body of one with each of the other, or, for
+    an entry of one kind (its two sides the same bodies), each two of them once."""
+    n = len(side_a)
+    return n * (n - 1) // 2 if rule.a == rule.b else n * len(side_b)
 
 
 def _xywh(body: Body, tick: int, rule: PairRule) -> tuple[int, int, int, int]:
