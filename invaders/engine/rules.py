@@ -72,10 +72,6 @@ class PairRule:
     def shape_of(self, kind: int) -> Shape:
         return self.a_shape if kind == self.a else self.b_shape
 
-    def spends(self, kind: int) -> bool:
-        """Whether a contact of this entry spends its side of `kind`."""
-        return self.spends_a if kind == self.a else self.spends_b
-
 
 @dataclass(frozen=True)
 class RuleTable:
