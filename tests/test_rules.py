@@ -9,7 +9,7 @@ import pytest
 from invaders.engine.detector import Detector
 from invaders.engine.grid import Grid
 from invaders.engine.proofs import discrete_miss
-from invaders.engine.rules import Motion
+from invaders.engine.rules import Motion, PairRule, RuleTable
 from invaders.game.kinds import Kind
 from invaders.game.rules import NEVER
 from invaders.game.tuning import cheapest_rules, kind_moves, proof_masks
@@ -23,6 +23,19 @@ def test_every_pair_of_kinds_is_either_tested_or_excluded_with_a_reason():
         tested = GAME_RULES.rule_for(a, b) is not None
         excluded = frozenset({a, b}) in NEVER
         assert tested != excluded, (a, b)
+
+
+@pytest.mark.parametrize(("entries", "eroding", "said"), [
+    ((PairRule(1, 2), PairRule(2, 1)), frozenset(), "two entries for kinds 2 and 1"),
+    ((PairRule(3, 3), PairRule(3, 3)), frozenset(), "two entries for kinds 3 and 3"),
+    ((PairRule(1, 2, motion=Motion.SWEPT),), frozenset({1, 2}), "both sides erode")])
+def test_a_table_that_cannot_be_obeyed_is_refused_when_made(entries, eroding, said):
+    """Two entries for one pair of kinds (which would answer it?), or a swept entry whose
+    sides both erode (neither can be the one swept): refused, saying which; its first entry
+    alone, with one side eroding, is taken."""
+    with pytest.raises(ValueError, match=said):
+        RuleTable(entries, eroding)
+    assert list(RuleTable(entries[:1], eroding - {2})) == [entries[0]]  # (one, one eroding)
 
 
 def test_the_named_exclusions():
