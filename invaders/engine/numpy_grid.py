@@ -343,9 +343,6 @@ class NumpyGrid(BroadPhase):
                 continue
             ida, idb = table_a.ids[a_rows].take(i), table_b.ids[b_rows].take(j)
             bodies_a, bodies_b = table_a.objects[a_rows].take(i), table_b.objects[b_rows].take(j)
-            if rule.a == rule.b:  # a pair of one kind: once, and never a body with itself
-                keep = ida < idb
-                ida, idb, bodies_a, bodies_b = ida[keep], idb[keep], bodies_a[keep], bodies_b[keep]
             ids_a.append(ida)
             ids_b.append(idb)
             found_a.append(bodies_a)
