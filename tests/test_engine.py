@@ -10,6 +10,7 @@ from hypothesis import settings
 from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, invariant, precondition, rule
 
+from invaders.engine import store as store_module
 from invaders.engine.body import Body
 from invaders.engine.broadphase import Brute
 from invaders.engine.detector import Detector
@@ -87,6 +88,14 @@ def test_a_picture_gains_pixels_only_if_it_lights_one_the_old_did_not():
     assert gains_pixels(BAR_LOST, BAR)
     assert gains_pixels(BAR, BAR_MOVED)
     assert not gains_pixels(BAR, mask("#", "#"))
+
+
+def test_the_gains_kept_are_bounded_however_many_masks_come():
+    # As the swept masks' cache: pictures made afresh each frame are new keys every time.
+    for _ in range(5000):
+        assert not gains_pixels(BAR, BAR_LOST.copy())
+        assert len(store_module._gains) <= 4097
+    assert gains_pixels(BAR_LOST, BAR) and not gains_pixels(BAR, BAR_LOST)
 
 
 def _touching_then_leaving(new_mask: pygame.mask.Mask) -> list:

@@ -84,6 +84,20 @@ def test_swept_contact_is_the_first_substep_that_touches():
     assert wall.overlap(bar, (0, 5)) is None and wall.overlap(bar, (0, -7)) is None
 
 
+def test_the_swept_masks_kept_are_bounded_however_many_masks_come():
+    # A program that makes its sprites' masks afresh each frame brings a new mask (a new
+    # key: masks hash by identity) to every swept test; the cache must not keep them all.
+    bar = mask("#", "#")
+    first = predicates.swept_mask(bar, 0, 3)
+    for _ in range(5000):
+        predicates.swept_mask(mask("#", "#"), 0, 3)
+        assert len(predicates._swept_cache) <= 4097
+    # Cleared on the way, it makes the same union again: a bar 1x5.
+    again = predicates.swept_mask(bar, 0, 3)
+    assert again.get_size() == (1, 5) and again.count() == 5
+    assert again.overlap_area(first, (0, 0)) == 5
+
+
 def test_swept_box_overlap_matches_the_union_of_positions():
     assert predicates.swept_box_overlap(1, 1, 1, 4, 0, 5, 0, -12)
     assert not predicates.swept_box_overlap(1, 1, 1, 4, 1, 5, 0, -12)
