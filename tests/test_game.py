@@ -19,7 +19,7 @@ from invaders.engine.compiled import fields
 from invaders.engine.detector import ZoneIndex
 from invaders.engine.pickling import mask_bytes
 from invaders.engine.predicates import solid_mask
-from invaders.game import bombs
+from invaders.game import art, bombs
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG
 from invaders.game.entities import (
@@ -86,6 +86,36 @@ def test_the_rack_steps_two_pixels_and_drops_eight_at_the_edge():
     assert steps[:8] == [2] * 8  # rightmost lit column 197 + 16 reaches 213
     assert steps[8] == -2 and tops[9] == tops[8] + 8  # drop and step back together
     assert tops[:9] == [128] * 9
+
+
+def _x_of_next_drop(world: World) -> int:
+    """The reference x at which the rack next drops (before its step back)."""
+    rack = world.rack
+    x, top = rack.ref_x, rack.ref_top
+    while rack.ref_top == top:
+        x = rack.ref_x
+        world.step(0)
+    return x
+
+
+def test_the_rack_turns_where_its_live_aliens_lit_columns_meet_the_edge():
+    world = active_world()
+    _quiet(world)
+    _ticks_between_rack_steps(world, 1)  # a step made: the lit columns found
+    rack, lit = world.rack, art.ALIEN_LIT_COLUMNS.values()
+    step = DEFAULT_CONFIG.speeds.rack_step
+    for alien in rack.live_aliens():  # the two right-hand columns shot away
+        if alien.col >= G.cols - 2:
+            rack.kill(alien, world.store)
+    x = _x_of_next_drop(world)  # the first x at which column 8's lit pixels reach the edge
+    right = G.cell * (G.cols - 3) + max(hi for _, hi in lit)
+    assert x + right >= G.edge_right > x - step + right
+    for alien in rack.live_aliens():  # then the two left-hand ones, marching back
+        if alien.col < 2:
+            rack.kill(alien, world.store)
+    x = _x_of_next_drop(world)
+    left = G.cell * 2 + min(lo for lo, _ in lit)
+    assert x + left <= G.edge_left < x + step + left
 
 
 def test_an_invasion_ends_the_game_with_ships_left():
