@@ -88,6 +88,27 @@ def test_the_rack_steps_two_pixels_and_drops_eight_at_the_edge():
     assert tops[:9] == [128] * 9
 
 
+def test_the_rack_steps_at_once_when_the_aliens_ahead_of_its_cursor_are_gone():
+    # The cursor runs past the dead to the end of the rack and wraps (0141): the reference
+    # steps and the walk starts again, so the first alien is drawn a step on at the next
+    # tick, then every 20 ticks for the 20 aliens left.
+    world = active_world()
+    _quiet(world)
+    _ticks_between_rack_steps(world, 1)  # a step just made: the walk starts again
+    for _ in range(20):  # 20 aliens drawn at the new place
+        world.step(0)
+    first = world.rack.aliens[0]
+    for alien in world.rack.live_aliens()[20:]:
+        world.rack.kill(alien, world.store)
+    moves, last, x = [], world.tick, first.x
+    while len(moves) < 3:
+        world.step(0)
+        if first.x != x:
+            moves.append(world.tick - last)
+            last, x = world.tick, first.x
+    assert moves == [1, 20, 20]
+
+
 def _x_of_next_drop(world: World) -> int:
     """The reference x at which the rack next drops (before its step back)."""
     rack = world.rack
@@ -116,6 +137,19 @@ def test_the_rack_turns_where_its_live_aliens_lit_columns_meet_the_edge():
     x = _x_of_next_drop(world)
     left = G.cell * 2 + min(lo for lo, _ in lit)
     assert x + left <= G.edge_left < x + step + left
+
+
+def test_every_alien_meets_things_with_the_picture_it_is_drawn_with_in_either_frame():
+    world = active_world()
+    _quiet(world)
+    frames = set()
+    for _ in range(55 * 3):
+        world.step(0)
+        for alien in world.rack.live_aliens():  # (its picture under 8 blank rows)
+            blank, picture = "." * 16, art.ALIEN_BY_ROW[alien.row][alien.frame]
+            assert mask_rows(alien.mask) == (blank,) * 8 + picture, (world.tick, alien.index)
+            frames.add(alien.frame)
+    assert frames == {0, 1}
 
 
 def test_an_invasion_ends_the_game_with_ships_left():
