@@ -26,7 +26,7 @@ class Looker:
     """A watch with what it saw last, checked at each look."""
 
     def __init__(self) -> None:
-        self.watch, self.seen, self.rack = RackWatch(), [], None
+        self.watch, self.seen, self.rack, self.tick = RackWatch(), [], None, 0
         self.partial = 0  # looks that named only some places
         self.racks, self.fewest = 0, 55  # racks seen, and the fewest live aliens seen
 
@@ -39,10 +39,12 @@ class Looker:
             assert changed <= named, (world.tick, sorted(changed - named))
         else:
             assert named == set(range(len(rack.aliens)))
+        if len(named) < len(rack.aliens):  # no more than an alien a tick since the last look
+            assert rack is self.rack and len(named) <= world.tick - self.tick
         self.partial += len(named) < len(rack.aliens)
         self.racks += rack is not self.rack
         self.fewest = min(self.fewest, rack.live)
-        self.seen, self.rack = now, rack
+        self.seen, self.rack, self.tick = now, rack, world.tick
 
 
 def test_the_watch_names_every_changed_place_in_whole_games_looked_at_now_and_then():
