@@ -3,6 +3,9 @@ PLAY PLAYER<n> between turns; the replay says how many play; one-player games un
 
 from __future__ import annotations
 
+import itertools
+from collections.abc import Callable
+
 import pygame
 import pytest
 
@@ -163,3 +166,63 @@ def test_before_a_new_game_play_player_1_flashes_the_new_games_score_not_the_las
     assert (168, 24) not in on  # one player: SCORE<2> blank
     two = {(x, y): m for m, x, y in hud_texts(world, Prompt(players=2, left=4))}
     assert two[(168, 24)] == "0000" and (24, 24) not in two
+
+
+
+def _march(world: World, done: Callable[[World], bool], limit: int = 2000) -> list[int]:
+    """The rack's steps until `done(world)`, its bombs held back (deaths come only when a
+    test asks for them)."""
+    steps, x = [], world.rack.ref_x
+    for _ in range(limit):
+        world.alien_fire_timer = 10**9
+        world.step(0)
+        if world.rack.ref_x != x:
+            steps.append(world.rack.ref_x - x)
+            x = world.rack.ref_x
+        if done(world):
+            return steps
+    raise AssertionError(f"not done in {limit} ticks")
+
+
+def _one_alien_left(world: World) -> None:
+    step_until(world, lambda r: world.rack.live == 55 and world.cannon.state == 1, limit=400)
+    for alien in world.rack.live_aliens()[1:]:
+        world.rack.kill(alien, world.store)
+
+
+def _round_the_turns(world: World) -> None:
+    """Player 1 dies, player 2 plays and dies, and player 1's turn starts again."""
+    for _ in range(2):
+        _lose_a_ship(world)
+        step_until(world, lambda r: Event.TURN_STARTED in r.events, limit=SWITCH_TICKS + 10)
+    assert world.player == 1
+
+
+def test_a_turn_starts_the_last_aliens_3_pixel_step_right_back_at_2():
+    """InitRack (00C2) backs a kept step of 3 down to 2 at the start of a player's turn,
+    until the next bump at the left edge sets it again."""
+    world = World(seed=2, players=2)
+    _one_alien_left(world)
+    _march(world, lambda w: w.rack.dx == 3)  # bumped at the right edge, then the left
+    _round_the_turns(world)
+    assert world.rack.dx == 2
+    steps = _march(world, lambda w: w.rack.dx == 3)  # right, left, and the left bump again
+    assert [step for step, _ in itertools.groupby(steps)] == [2, -2, 3]
+
+
+def test_a_players_new_wave_marches_with_the_step_they_left_their_last_turn_with():
+    """The page keeps the step saved when its player last left for the other's turn, and
+    InitRack starts each of their waves with it (09EF, 0814): a wave cleared after a turn
+    left going left starts going left. A game of one saves none: right, as ever."""
+    for players, first in ((2, -2), (1, 2)):
+        world = World(seed=2, players=players)
+        _one_alien_left(world)
+        _march(world, lambda w: w.rack.dx < 0)  # turned at the right edge
+        if players == 2:
+            _round_the_turns(world)
+            assert world.rack.dx == -2
+        _march(world, lambda w: w.rack.dx > 0)  # going right again
+        world.kill_alien(world.rack.live_aliens()[0])
+        step_until(world, lambda r: Event.WAVE_STARTED in r.events, limit=400)
+        assert world.rack.dx == first and world.rack.ref_x == world.config.geometry.rack_left
+        assert _march(world, lambda w: w.rack.ref_x != w.config.geometry.rack_left) == [first]

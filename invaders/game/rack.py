@@ -83,6 +83,13 @@ class Rack:
         self.breaks += 1
         store.remove(alien)
 
+    def set_step(self, kept: int) -> None:
+        """March with the step a player's page kept, as InitRack sets it at the start of
+        their turn or wave (00B1-00C7): a step right of one alien left backed down to the
+        usual step, until the next bump at the left edge sets it again."""
+        s = self.config.speeds
+        self.dx = s.rack_step if kept == s.rack_step_last_right else kept
+
     def hide(self) -> None:
         """The rack leaves the screen with its player (its aliens taken out of the store):
         they are drawn again, one a tick from the bottom left, when the player comes back."""

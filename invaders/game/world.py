@@ -178,8 +178,13 @@ class World:
         self.extra_awarded = False
         self.games += 1
         self.players, self.player = players, 1
+        # The rack's step each player's page keeps (2xFB): set going right at a game's start
+        # (00D7), saved only when the player leaves for the other's turn (02D7-0329), and taken
+        # again at the start of each of their turns and waves (InitRack).
+        self.kept_dx = self.config.speeds.rack_step
         # The player waiting for a turn (player 2 starts on a fresh wave 1), or None.
-        self.waiting = Turn(2, 0, self.ships, False, 1, None) if players == 2 else None
+        self.waiting = Turn(2, 0, self.ships, False, 1, None,
+                            self.kept_dx) if players == 2 else None
         self._shields_up: list[pygame.mask.Mask] = []  # the player up's, while PLAY PLAYER<n>
         self._start_wave(1)
 
@@ -188,7 +193,9 @@ class World:
         (a cleared wave goes back to 0804, which draws it: 0A30, 0A39)."""
         self.wave = wave
         self.ground = art.fresh_mask(art.GROUND)
-        self._set_field(Rack(self.config, self.config.start_top(wave), self.store), None)
+        rack = Rack(self.config, self.config.start_top(wave), self.store)
+        rack.set_step(self.kept_dx)
+        self._set_field(rack, None)
         self.events.append(Event.WAVE_STARTED)
 
     def _set_field(self, rack: Rack, shields: list[pygame.mask.Mask] | None) -> None:
@@ -576,13 +583,15 @@ class World:
         waiting = self.waiting
         assert waiting is not None
         self.waiting = Turn(self.player, self.score, self.ships, self.extra_awarded, self.wave,
-                            self.rack, [bunker.mask for bunker in self.bunkers], out=self.out)
+                            self.rack, self.rack.dx, [bunker.mask for bunker in self.bunkers],
+                            out=self.out)
         self._clear_field()
         self.rack.hide()
         self.shot, self.slots, self.explosions, self.bunkers = None, bombs.new_slots(), [], []
         self.saucer = saucer.SaucerState(timer=self.config.timing.saucer_timer)
         self.player, self.score, self.ships = waiting.number, waiting.score, waiting.ships
         self.extra_awarded, self.wave, self.invaded = waiting.extra_awarded, waiting.wave, False
+        self.kept_dx = waiting.kept_dx
         self.rack = waiting.rack or Rack(self.config, self.config.start_top(self.wave),
                                          self.store)
         self._shields_up = waiting.shields
@@ -594,6 +603,7 @@ class World:
         """The player up's own shields back and their rack drawn again one alien a tick,
         the cannon ready at once (0318)."""
         self._set_field(self.rack, self._shields_up or None)
+        self.rack.set_step(self.kept_dx)
         self._shields_up = []
         self.cannon.state = ACTIVE
         self.store.add(self.cannon)
@@ -648,7 +658,7 @@ class World:
         if not self.scoring:
             groups["game"] += ("demo",)
         if self.waiting is not None:  # (a one-player game's groups are as they always were)
-            groups["game"] += (self.player, self.waiting.state(),
+            groups["game"] += (self.player, self.kept_dx, self.waiting.state(),
                                b"".join(mask_bytes(m) for m in self._shields_up))
         if self._rng is not None:  # (drawn from: no 1978 rule does, so hashes are as they were)
             groups["game"] += (self._rng.getstate(),)
