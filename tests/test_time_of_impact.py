@@ -52,7 +52,9 @@ def _scene(turn: int):
     capture = Capture()
     world.detector.observers.append(capture)
     rack = world.rack
-    alien = rack.aliens[5 if rack.next_index() != 5 else 6]
+    live = [alien.index for alien in rack.live_aliens()]
+    drawn_next = next((index for index in live if index >= rack.cursor), live[0])
+    alien = rack.aliens[5 if drawn_next != 5 else 6]
     col = next(c for c in range(alien.w) if _lit_rows(alien.mask, c))
     return world, capture, alien, alien.x + col, alien.y + max(_lit_rows(alien.mask, col))
 

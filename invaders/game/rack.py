@@ -145,14 +145,6 @@ class Rack:
         return (self.ref_top - cell * highest - self.config.speeds.rack_drop,
                 self.ref_top - cell * lowest + ALIEN_HEIGHT)
 
-    def next_index(self) -> int | None:
-        """The index of the alien the next step draws (None with no live aliens)."""
-        live = self._live_indices
-        if not live:
-            return None
-        at = bisect_left(live, self.cursor)
-        return live[at] if at < len(live) else live[0]
-
     def _wrap(self) -> None:
         """The reference alien moves: a step, or at an edge a drop and a step back."""
         s = self.config.speeds
