@@ -374,12 +374,32 @@ def test_the_rows_a_rack_may_cover_hold_every_live_alien_within_a_drop_each_way(
     assert slacks == {(0, 0), (drop, 0), (0, drop)}
 
 
+def test_the_rows_a_rack_may_cover_reach_a_top_row_alien_alone_in_its_row():
+    """Two aliens left, the bottom-left and the top-right: the band runs from the top
+    one's row (a drop higher) to the bottom one's, through their steps and drops."""
+    world = active_world()
+    for alien in world.rack.live_aliens():
+        if alien.index not in (0, 54):
+            world.rack.kill(alien, world.store)
+    tops = set()
+    for _ in range(600):
+        world.alien_fire_timer = 10**9  # (no bomb: the cannon lives, the rack marches)
+        world.step(0)
+        top, bottom = world.rack.picture_rows()
+        for alien in world.rack.live_aliens():
+            assert top <= alien.top and alien.top + ALIEN_HEIGHT <= bottom, world.tick
+        tops.add(world.rack.ref_top)
+    assert len(tops) > 2  # (two drops at least)
+
+
 def test_a_racks_aliens_share_no_pixel_exactly_where_pictures_apart_says_so():
     """Over an array the rack is kept drawn, aliens taken out and put in, which needs no
-    two to share a pixel: the default rack's never do through its steps and drops; one
-    stepping 8 pixels does, is said not to be apart, and is drawn alien by alien (its
-    picture is the one drawn afresh)."""
-    for speeds, apart in ((Speeds(), True), (Speeds(rack_step=8), False)):
+    two to share a pixel: the default rack's never do through its steps and drops, nor one
+    stepping 4 pixels (the widest picture's lit columns and the step fill a cell); one
+    stepping 5 does, is said not to be apart, and is drawn alien by alien (its picture is
+    the one drawn afresh)."""
+    for speeds, apart in ((Speeds(), True), (Speeds(rack_step=4), True),
+                          (Speeds(rack_step=5), False)):
         config = GameConfig(speeds=speeds)
         assert pictures_apart(config) is apart
         world, over_array, afresh = World(seed=3, config=config), _canvas_picture(), _DrawnAfresh()
