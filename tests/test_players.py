@@ -3,6 +3,7 @@ PLAY PLAYER<n> between turns; the replay says how many play; one-player games un
 
 from __future__ import annotations
 
+import copy
 import itertools
 from collections.abc import Callable
 
@@ -221,6 +222,9 @@ def test_a_players_new_wave_marches_with_the_step_they_left_their_last_turn_with
         if players == 2:
             _round_the_turns(world)
             assert world.rack.dx == -2
+            twin = copy.deepcopy(world)  # (the step kept decides the future: in the hash)
+            twin.kept_dx = 2
+            assert twin.state_hash() != world.state_hash()
         _march(world, lambda w: w.rack.dx > 0)  # going right again
         world.kill_alien(world.rack.live_aliens()[0])
         step_until(world, lambda r: Event.WAVE_STARTED in r.events, limit=400)

@@ -33,7 +33,9 @@ class Turn:
     extra_awarded: bool
     wave: int
     rack: Rack | None  # None: a fresh rack for their wave (player 2 before their first turn)
-    kept_dx: int  # their rack's step when they last left it (their next wave starts with it)
+    # Their rack's step when they last left it (their next wave starts with it): their
+    # rack's own while they wait (it stands still), so the state leaves it out.
+    kept_dx: int
     shields: list[pygame.mask.Mask] = field(default_factory=list)  # empty: fresh ones
     out: bool = False  # no ships left (or invaded): the other plays on alone
 
@@ -43,5 +45,5 @@ class Turn:
         kept = None if rack is None else (rack.ref_x, rack.ref_top, rack.dx, rack.frame,
                                           rack.live, tuple(a is not None for a in rack.aliens))
         return (self.number, self.score, self.ships, self.extra_awarded, self.wave, self.out,
-                kept, self.kept_dx, b"".join(mask_bytes(m) for m in self.shields))
+                kept, b"".join(mask_bytes(m) for m in self.shields))
 

@@ -658,8 +658,12 @@ class World:
         if not self.scoring:
             groups["game"] += ("demo",)
         if self.waiting is not None:  # (a one-player game's groups are as they always were)
-            groups["game"] += (self.player, self.kept_dx, self.waiting.state(),
+            groups["game"] += (self.player, self.waiting.state(),
                                b"".join(mask_bytes(m) for m in self._shields_up))
+            # (only a step kept other than the first, so that a state with none hashes as it
+            # did before the step was kept)
+            if self.kept_dx != self.config.speeds.rack_step:
+                groups["game"] += ("kept step", self.kept_dx)
         if self._rng is not None:  # (drawn from: no 1978 rule does, so hashes are as they were)
             groups["game"] += (self._rng.getstate(),)
         return groups
