@@ -44,18 +44,9 @@ class BombSlot:
 
 
 def new_slots() -> list[BombSlot]:
-    return [BombSlot(t) for t in BombType]
-
-
-def reset_slots(slots: list[BombSlot], store: BodyStore) -> None:
-    """Clear all bombs (wave start); rolling skips its next attempt."""
-    for slot in slots:
-        if slot.bomb is not None:
-            store.remove(slot.bomb)
-        slot.bomb = None
-        slot.burst = 0
-        slot.steps = 0
-        slot.skip_next = slot.btype is BombType.ROLLING
+    """A wave's or a turn's slots: no bomb, and the rolling bomb skipping its first
+    attempt, as after every reset (04AB)."""
+    return [BombSlot(t, skip_next=t is BombType.ROLLING) for t in BombType]
 
 
 def reload_ready(slots: list[BombSlot], me: BombSlot, steps_needed: int) -> bool:

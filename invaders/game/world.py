@@ -219,7 +219,6 @@ class World:
         self._cannon_wait()
         self.shot: Shot | None = None
         self.slots = bombs.new_slots()
-        bombs.reset_slots(self.slots, store)
         self.saucer = saucer.SaucerState(timer=cfg.timing.saucer_timer)
         self.shots_removed = 0
         self.explosions: list[Explosion] = []
