@@ -21,9 +21,10 @@ from invaders.lab.picture import hud_texts, turn_texts
 from tests.helpers import step_until, through_the_prompt
 
 
-def _lose_a_ship(world: World) -> None:
+def _lose_a_ship(world: World) -> int:
+    """The cannon hit: the tick its ship is lost."""
     world.kill_cannon()
-    step_until(world, lambda r: Event.SHIP_LOST in r.events, limit=200)
+    return step_until(world, lambda r: Event.SHIP_LOST in r.events, limit=200).tick
 
 
 def test_players_take_turns_at_each_death_each_with_their_own_field():
@@ -50,6 +51,17 @@ def test_players_take_turns_at_each_death_each_with_their_own_field():
     assert world.bunkers[0].mask.count() == 0 and world.bunkers[1].mask.count() == fresh
     drawn = step_until(world, lambda r: len(world.rack.live_aliens()) == 50, limit=60)
     assert drawn.tick - report.tick > 50  # the rack comes back one alien a tick
+
+
+def test_between_turns_the_field_holds_128_frames_then_the_prompt_176():
+    """TwoSecDelay's 0x80 frames after the death (0315), then PLAY PLAYER<n> for 0xB0
+    (08A4), then the other player's turn."""
+    world = World(seed=2, players=2)
+    step_until(world, lambda r: world.cannon.state == 1, limit=400)
+    lost = _lose_a_ship(world)
+    up = step_until(world, lambda r: Event.PLAYER_UP in r.events, limit=400).tick
+    started = step_until(world, lambda r: Event.TURN_STARTED in r.events, limit=400).tick
+    assert (up - lost, started - up) == (128, 176)
 
 
 def test_one_out_of_ships_the_other_plays_on_alone_then_the_game_ends():
