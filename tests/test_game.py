@@ -36,7 +36,7 @@ from invaders.game.entities import (
 from invaders.game.events import Event
 from invaders.game.kinds import Kind
 from invaders.game.replay import Checkpoint
-from invaders.game.saucer import SIDE_BITS, from_left_after, launch, score_for
+from invaders.game.saucer import SIDE_BITS, fly, from_left_after, launch, score_for
 from invaders.game.world import Phase, World
 from invaders.lab.autopilot import Autopilot
 from tests.helpers import active_world, mask_rows, step_until
@@ -716,6 +716,21 @@ def test_the_step_counter_stands_still_during_a_burst():
     while slot.burst:
         world.step(0)
     assert slot.steps == 7
+
+
+def test_the_saucer_flies_from_9_to_191_or_from_192_to_8_then_leaves():
+    # Removed at x < 8 or x >= 193 (06BA-06D5), 2 px a saucer tick from x 9 or 192.
+    for from_left, first, last in ((True, 9, 191), (False, 192, 8)):
+        world = active_world()
+        world.saucer.from_left = from_left
+        ship = launch(world.saucer, world.store, world.config)
+        places = [ship.x]
+        while world.saucer.saucer is not None:
+            fly(world.saucer, world.store, world.config)
+            if world.saucer.saucer is not None:
+                places.append(ship.x)
+        assert places == list(range(first, last + (1 if from_left else -1), ship.dx))
+        assert not ship.alive  # (out of the store: nothing meets it any more)
 
 
 def test_the_first_saucer_of_a_wave_starts_at_the_left_moving_right():
