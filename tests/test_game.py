@@ -790,6 +790,20 @@ def test_the_cannon_and_bombs_keep_running_in_the_pause_after_a_cleared_wave():
     assert world.cannon.x == x0 + 6 and bomb.y > y0
 
 
+def test_the_player_cannot_fire_in_the_pause_after_a_cleared_wave():
+    # The game loop reads the fire button (1618); the pause (0A3C) holds it up.
+    world = active_world()
+    _quiet(world)
+    for alien in list(world.rack.live_aliens()):
+        world.rack.kill(alien, world.store)
+    step_until(world, lambda r: Event.WAVE_CLEARED in r.events, limit=5)
+    events = []
+    while world.phase is Phase.WAVE_END:
+        events += world.step(int(Action.FIRE) if world.tick % 2 else 0).events
+    assert Event.SHOT_FIRED not in events and world.shot is None
+    assert Event.WAVE_STARTED in events
+
+
 def saucer_launch(world: World):
     return launch(world.saucer, world.store, world.config)
 

@@ -248,9 +248,10 @@ class World:
             self._move(actions, fire_pressed)
         elif self.phase is WAVE_END:
             # During the pause after a cleared wave the cannon and the bombs still in the air
-            # keep running (0A3C); nothing new is fired from an empty rack.
-            self._move_shot()
-            self._move_cannon(actions, fire_pressed)
+            # keep running (0A3C: the interrupts' objects); nothing new is fired from an
+            # empty rack, nor by the player, whose fire the game loop reads (1618), not the
+            # interrupts. (No shot flies: the last kill's is spent.)
+            self._move_cannon(actions, False)
             if self.phase is WAVE_END:  # (not if the last ship was lost just now)
                 self._projectile_turn()
                 self.phase_timer -= 1
