@@ -640,6 +640,16 @@ def test_the_rolling_bombs_skip_is_spent_on_its_very_next_turn_even_with_fire_of
     assert Event.BOMB_FIRED in fired.events and slot.bomb is not None
 
 
+def test_a_new_cannon_after_a_death_comes_with_the_rolling_bomb_skipping_its_next_attempt():
+    # A reset rolling bomb skips its first attempt (047D), as after a death; the plunger and
+    # the squiggly do not.
+    world = active_world()
+    world.kill_cannon()
+    step_until(world, lambda r: Event.SHIP_LOST in r.events, limit=200)
+    assert [slot.skip_next for slot in world.slots] == [
+        btype is BombType.ROLLING for btype in BombType]
+
+
 def _one_alien_left_under_the_plungers_next_column(world: World):
     plunger = world.slots[BombType.PLUNGER]
     col = DEFAULT_CONFIG.rules.plunger_columns[plunger.table_index] - 1
