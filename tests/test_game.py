@@ -261,6 +261,7 @@ def test_one_extra_ship_at_1500_once_per_game():
     assert world.ships == 4
     world.add_score(1500)
     assert world.ships == 4
+    assert world.step(0).events.count(Event.EXTRA_SHIP) == 1  # (said once, with the ship)
 
 
 def test_bombs_come_from_the_lowest_live_alien_of_the_plunger_column():
@@ -516,8 +517,11 @@ def test_losing_the_last_ship_ends_the_game_and_start_begins_a_new_one():
     assert Event.SHIP_LOST in report.events
     assert world.phase is Phase.GAME_OVER
     world.score = 120
-    step_until(world, lambda r: Event.NEW_GAME in r.events, actions=Action.START, limit=300)
+    # START is taken once the game-over pause has run, to the tick, and begins a game of one.
+    new = step_until(world, lambda r: Event.NEW_GAME in r.events, actions=Action.START, limit=300)
+    assert new.tick - report.tick == DEFAULT_CONFIG.timing.game_over_pause
     assert world.score == 0 and world.ships == 3 and world.wave == 1 and world.games == 2
+    assert world.players == 1 and world.waiting is None
 
 
 def test_the_first_tick_reports_the_first_wave_starting():

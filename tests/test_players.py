@@ -15,6 +15,7 @@ from invaders.game.actions import Action
 from invaders.game.events import Event
 from invaders.game.players import HOLD, PROMPT, SWITCH_TICKS
 from invaders.game.replay import load
+from invaders.game.saucer import launch
 from invaders.game.world import Phase, World
 from invaders.lab.autopilot import Autopilot
 from invaders.lab.picture import hud_texts, turn_texts
@@ -33,7 +34,8 @@ def test_players_take_turns_at_each_death_each_with_their_own_field():
     for alien in world.rack.live_aliens()[:5]:  # player 1 shoots five aliens ...
         world.rack.kill(alien, world.store)
     world.add_score(50)
-    world.bunkers[0].mask.clear()  # ... and loses a shield
+    world.bunkers[0].mask.clear()  # ... and loses a shield, a saucer flying
+    launch(world.saucer, world.store, world.config)
     _lose_a_ship(world)
     assert world.phase is Phase.SWITCH and world.player == 1 and world.ships == 2
     for _ in range(HOLD):  # the field held as it was
@@ -41,6 +43,7 @@ def test_players_take_turns_at_each_death_each_with_their_own_field():
     assert Event.PLAYER_UP in report.events and world.player == 2
     assert (world.score, world.ships, world.wave, world.scores()) == (0, 3, 1, (50, 0))
     assert world.bunkers == [] and not world.rack.live_aliens()  # cleared for the prompt
+    assert world.saucer.saucer is None and not world.saucer.busy  # (the saucer too)
     report = step_until(world, lambda r: Event.TURN_STARTED in r.events, limit=PROMPT)
     assert world.phase is Phase.PLAYING and world.cannon.state == 1  # ready at once
     fresh = art.fresh_mask(art.BUNKER).count()
@@ -48,6 +51,7 @@ def test_players_take_turns_at_each_death_each_with_their_own_field():
     _lose_a_ship(world)
     step_until(world, lambda r: Event.TURN_STARTED in r.events, limit=SWITCH_TICKS)
     assert (world.player, world.score, world.ships, world.rack.live) == (1, 50, 2, 50)
+    assert world.scores() == (50, 0)
     assert world.bunkers[0].mask.count() == 0 and world.bunkers[1].mask.count() == fresh
     drawn = step_until(world, lambda r: len(world.rack.live_aliens()) == 50, limit=60)
     assert drawn.tick - report.tick > 50  # the rack comes back one alien a tick
@@ -67,8 +71,10 @@ def test_between_turns_the_field_holds_128_frames_then_the_prompt_176():
 def test_one_out_of_ships_the_other_plays_on_alone_then_the_game_ends():
     world = World(seed=3, players=2)
     world.ships = 1
+    world.add_score(30)
     _lose_a_ship(world)  # player 1's last ship: GAME OVER PLAYER<1>, then player 2
     assert world.out and world.phase is Phase.SWITCH
+    assert world.hi_score == 30  # (taken when a player is out, as at the game's end)
     assert turn_texts(world) == [("GAME OVER PLAYER<1>", 32, 224)]
     step_until(world, lambda r: Event.TURN_STARTED in r.events, limit=SWITCH_TICKS)
     assert world.player == 2 and world.waiting.out
