@@ -512,10 +512,14 @@ def test_a_worlds_deep_copy_never_goes_through_pickle(monkeypatch):
 def test_losing_the_last_ship_ends_the_game_and_start_begins_a_new_one():
     world = active_world()
     world.ships = 1
+    bomb = Bomb(world.store.new_id(), BombType.PLUNGER, 100, 60)  # high: still falling at the end
+    world.store.add(bomb)
+    world.slots[BombType.PLUNGER].bomb = bomb
     world.kill_cannon()
     report = step_until(world, lambda r: Event.GAME_OVER in r.events, limit=100)
     assert Event.SHIP_LOST in report.events
     assert world.phase is Phase.GAME_OVER
+    assert not bomb.alive and all(not slot.busy for slot in world.slots)  # the field's emptied
     world.score = 120
     # START is taken once the game-over pause has run, to the tick, and begins a game of one.
     new = step_until(world, lambda r: Event.NEW_GAME in r.events, actions=Action.START, limit=300)

@@ -34,6 +34,8 @@ def test_players_take_turns_at_each_death_each_with_their_own_field():
     for alien in world.rack.live_aliens()[:5]:  # player 1 shoots five aliens ...
         world.rack.kill(alien, world.store)
     world.add_score(50)
+    world.extra_awarded = True  # (as if past 1500)
+    world.ground.clear()  # the bottom line chipped away
     world.bunkers[0].mask.clear()  # ... and loses a shield, a saucer flying
     launch(world.saucer, world.store, world.config)
     _lose_a_ship(world)
@@ -44,6 +46,8 @@ def test_players_take_turns_at_each_death_each_with_their_own_field():
     assert (world.score, world.ships, world.wave, world.scores()) == (0, 3, 1, (50, 0))
     assert world.bunkers == [] and not world.rack.live_aliens()  # cleared for the prompt
     assert world.saucer.saucer is None and not world.saucer.busy  # (the saucer too)
+    assert not world.extra_awarded  # player 2's own
+    assert world.ground.count() == art.fresh_mask(art.GROUND).count()  # drawn afresh (0804)
     report = step_until(world, lambda r: Event.TURN_STARTED in r.events, limit=PROMPT)
     assert world.phase is Phase.PLAYING and world.cannon.state == 1  # ready at once
     fresh = art.fresh_mask(art.BUNKER).count()
@@ -51,7 +55,7 @@ def test_players_take_turns_at_each_death_each_with_their_own_field():
     _lose_a_ship(world)
     step_until(world, lambda r: Event.TURN_STARTED in r.events, limit=SWITCH_TICKS)
     assert (world.player, world.score, world.ships, world.rack.live) == (1, 50, 2, 50)
-    assert world.scores() == (50, 0)
+    assert world.scores() == (50, 0) and world.extra_awarded
     assert world.bunkers[0].mask.count() == 0 and world.bunkers[1].mask.count() == fresh
     drawn = step_until(world, lambda r: len(world.rack.live_aliens()) == 50, limit=60)
     assert drawn.tick - report.tick > 50  # the rack comes back one alien a tick
