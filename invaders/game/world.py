@@ -596,7 +596,6 @@ class World:
                                          self.store)
         self._shields_up = waiting.shields
         self.ground = art.fresh_mask(art.GROUND)  # the bottom line drawn afresh (0804)
-        self.phase_timer = PROMPT
         self.events.append(Event.PLAYER_UP)
 
     def _resume_turn(self) -> None:
@@ -614,9 +613,7 @@ class World:
         self.phase = GAME_OVER
         self.phase_timer = self.config.timing.game_over_pause
         self.hi_score = max(self.hi_score, self.score)
-        if self.cannon.alive:
-            self.store.remove(self.cannon)
-        self.remove_shot()
+        self.remove_shot()  # (the cannon is out of the store already: blown up)
         for slot in self.slots:
             if slot.bomb is not None:
                 self.store.remove(slot.bomb)
