@@ -736,6 +736,26 @@ def test_the_step_counter_stands_still_during_a_burst():
     assert slot.steps == 7
 
 
+def test_no_squiggly_bomb_falls_while_a_saucer_is_due_flies_or_shows_its_hit():
+    # The saucer shares the squiggly's object (section 7): the squiggly fires again only
+    # once the saucer's hit has shown to its end.
+    world = active_world()
+    world.alien_fire_timer = 0
+    world.saucer.due = True
+    squiggly, seen = world.slots[BombType.SQUIGGLY], set()
+    for _ in range(400):
+        report = world.step(0)
+        ship = world.saucer
+        if Event.SAUCER_LAUNCHED in report.events:
+            world.hit_saucer()  # a hit at once: its explosion, then its score, show
+        busy = ship.due or ship.saucer is not None or ship.hit_steps > 0
+        seen.add(busy)
+        assert not (busy and squiggly.bomb is not None), world.tick
+        if squiggly.bomb is not None:
+            break
+    assert seen == {True, False} and squiggly.bomb is not None
+
+
 def test_the_saucer_flies_from_9_to_191_or_from_192_to_8_then_leaves():
     # Removed at x < 8 or x >= 193 (06BA-06D5), 2 px a saucer tick from x 9 or 192.
     for from_left, first, last in ((True, 9, 191), (False, 192, 8)):

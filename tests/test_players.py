@@ -45,7 +45,7 @@ def test_players_take_turns_at_each_death_each_with_their_own_field():
     assert Event.PLAYER_UP in report.events and world.player == 2
     assert (world.score, world.ships, world.wave, world.scores()) == (0, 3, 1, (50, 0))
     assert world.bunkers == [] and not world.rack.live_aliens()  # cleared for the prompt
-    assert world.saucer.saucer is None and not world.saucer.busy  # (the saucer too)
+    assert world.saucer.saucer is None and world.saucer.hit_steps == 0  # (the saucer too)
     assert not world.extra_awarded  # player 2's own
     assert world.ground.count() == art.fresh_mask(art.GROUND).count()  # drawn afresh (0804)
     report = step_until(world, lambda r: Event.TURN_STARTED in r.events, limit=PROMPT)

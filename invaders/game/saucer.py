@@ -38,11 +38,6 @@ class SaucerState:
     hit_score: int = 0
     from_left: bool = True  # before any shot has finished, and after each saucer: the left
 
-    @property
-    def busy(self) -> bool:
-        """Pending, flying or exploding: the squiggly bomb does not fire meanwhile."""
-        return self.due or self.saucer is not None or self.hit_steps > 0
-
     def __deepcopy__(self, memo: dict[int, Any]) -> SaucerState:
         """A copy with its saucer's (made once, through `memo`), its numbers and flags as
         they are (as a bomb slot's copy)."""

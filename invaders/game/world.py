@@ -307,7 +307,9 @@ class World:
         saucer.count_down(self.saucer, self.config, self.rack.ref_top)
 
     def _projectile_turn(self) -> None:
-        """The bomb type (or the saucer) whose turn this tick is."""
+        """The bomb type (or the saucer) whose turn this tick is. The saucer shares the
+        squiggly's object: the squiggly's turn is the saucer's while one flies or shows its
+        hit, and launching a due saucer takes it, so no squiggly fires meanwhile."""
         turn = self.store.tick % 3
         slot = self.slots[turn]
         if turn == SQUIGGLY and (self.saucer.saucer or self.saucer.hit_steps):
@@ -396,8 +398,6 @@ class World:
         if self.alien_fire_timer != 0 or self.rack.live == 0:
             return
         if slot.off:
-            return
-        if slot.btype is SQUIGGLY and self.saucer.busy:
             return
         reload = self._reload
         if reload[0] != self.score or reload[1] is not cfg:  # kept: asked nearly every tick
