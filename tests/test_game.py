@@ -543,6 +543,7 @@ def test_after_a_kill_fire_is_refused_until_the_aliens_explosion_ends():
         world.step(int(Action.RIGHT))
     world.step(int(Action.FIRE))
     killed = step_until(world, lambda r: Event.ALIEN_KILLED in r.events, limit=100).tick
+    assert (world.aliens_killed, world.score, world.rack.aliens[2]) == (1, 10, None)
     first_shot = None
     while first_shot is None:  # release, press, release, press...
         world.step(0)
