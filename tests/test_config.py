@@ -1,5 +1,6 @@
-"""The config is the whole truth: change any geometry field and what it places moves, and
-nothing outside the config holds a copy. Bad values are refused naming field and range."""
+"""The config is the whole truth: change any geometry field and what it places moves, any
+speed and what it times goes by it, and nothing outside the config holds a copy. Bad
+values are refused naming field and range."""
 
 from __future__ import annotations
 
@@ -195,6 +196,78 @@ def test_changing_a_geometry_field_moves_what_it_places(name):
         assert changed == want, (name, changed)
     before = measure(World(seed=1))
     assert before != changed, f"{name}: the default {default} gives the same {before}"
+
+
+def world_going(**speeds) -> World:
+    return World(seed=1, config=GameConfig(speeds=dataclasses.replace(Speeds(), **speeds)))
+
+
+def _cannon_step(world: World) -> int:
+    x = active(world).cannon.x
+    world.step(int(Action.RIGHT))
+    return world.cannon.x - x
+
+
+def _shot_step(world: World) -> int:
+    active(world).step(int(Action.FIRE))
+    y = world.shot.y
+    world.step(0)
+    return y - world.shot.y
+
+
+def _bomb_step(world: World, live: int = 55) -> int:
+    """A plunger bomb's step, high over the field, with `live` aliens left."""
+    active(world)
+    for alien in world.rack.live_aliens()[live:]:
+        world.rack.kill(alien, world.store)
+    slot = world.slots[BombType.PLUNGER]
+    slot.bomb = bomb = Bomb(world.store.new_id(), BombType.PLUNGER, 100, 60)
+    world.store.add(bomb)
+    for _ in range(3):  # (a bomb type's turn comes every third tick)
+        world.step(0)
+    return bomb.y - 60
+
+
+def _rack_moves(world: World, turns: int, live: int = 55) -> list[tuple[int, int]]:
+    """The reference's moves (dx, dy) until it has turned `turns` times, bombs held back."""
+    active(world)
+    for alien in world.rack.live_aliens()[live:]:
+        world.rack.kill(alien, world.store)
+    rack, moves = world.rack, []
+    while sum(dy > 0 for _, dy in moves) < turns:
+        x, top = rack.ref_x, rack.ref_top
+        world.step(0)
+        if (rack.ref_x, rack.ref_top) != (x, top):
+            moves.append((rack.ref_x - x, rack.ref_top - top))
+        assert len(moves) < 1000
+    return moves
+
+
+SPEED_CHECKS: dict[str, tuple[int, Callable[[World], object], Callable[[int], object]]] = {
+    # field: (a new value, what to measure in a world, what it should measure for that value)
+    "cannon": (3, _cannon_step, lambda v: v),
+    "shot": (7, _shot_step, lambda v: v),
+    "bomb": (6, _bomb_step, lambda v: v),
+    "bomb_fast": (7, lambda w: _bomb_step(w, live=8), lambda v: v),
+    "bomb_fast_at": (20, lambda w: _bomb_step(w, live=20), lambda v: Speeds().bomb_fast),
+    # (a step of 1 turns at both edges: the tests of the direction compare with 0)
+    "rack_step": (1, lambda w: {dx for dx, _ in _rack_moves(w, 2)}, lambda v: {v, -v}),
+    "rack_step_last_right": (5, lambda w: _rack_moves(w, 2, live=1)[-1][0], lambda v: v),
+    "rack_drop": (4, lambda w: _rack_moves(w, 1)[-1][1], lambda v: v),
+    "saucer": (3, lambda w: _launched(w, True).dx, lambda v: v),
+}
+
+
+def test_every_speed_field_has_a_check():
+    assert set(SPEED_CHECKS) == {f.name for f in dataclasses.fields(Speeds)}
+
+
+@pytest.mark.parametrize("name", sorted(SPEED_CHECKS))
+def test_changing_a_speed_changes_what_it_moves_by(name):
+    value, measure, expected = SPEED_CHECKS[name]
+    changed = measure(world_going(**{name: value}))
+    assert changed == expected(value), (name, changed)
+    assert measure(World(seed=1)) != changed, f"{name}: the default gives the same"
 
 
 @pytest.mark.parametrize("section, field, value, message", [
