@@ -33,9 +33,6 @@ class Turn:
     extra_awarded: bool
     wave: int
     rack: Rack | None  # None: a fresh rack for their wave (player 2 before their first turn)
-    # Their rack's step when they last left it (their next wave starts with it): their
-    # rack's own while they wait (it stands still), so the state leaves it out.
-    kept_dx: int
     shields: list[pygame.mask.Mask] = field(default_factory=list)  # empty: fresh ones
     out: bool = False  # no ships left (or invaded): the other plays on alone
 

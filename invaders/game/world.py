@@ -183,8 +183,7 @@ class World:
         # again at the start of each of their turns and waves (InitRack).
         self.kept_dx = self.config.speeds.rack_step
         # The player waiting for a turn (player 2 starts on a fresh wave 1), or None.
-        self.waiting = Turn(2, 0, self.ships, False, 1, None,
-                            self.kept_dx) if players == 2 else None
+        self.waiting = Turn(2, 0, self.ships, False, 1, None) if players == 2 else None
         self._shields_up: list[pygame.mask.Mask] = []  # the player up's, while PLAY PLAYER<n>
         self._start_wave(1)
 
@@ -583,15 +582,15 @@ class World:
         waiting = self.waiting
         assert waiting is not None
         self.waiting = Turn(self.player, self.score, self.ships, self.extra_awarded, self.wave,
-                            self.rack, self.rack.dx, [bunker.mask for bunker in self.bunkers],
-                            out=self.out)
+                            self.rack, [bunker.mask for bunker in self.bunkers], out=self.out)
         self._clear_field()
         self.rack.hide()
         self.shot, self.slots, self.explosions, self.bunkers = None, bombs.new_slots(), [], []
         self.saucer = saucer.SaucerState(timer=self.config.timing.saucer_timer)
         self.player, self.score, self.ships = waiting.number, waiting.score, waiting.ships
         self.extra_awarded, self.wave, self.invaded = waiting.extra_awarded, waiting.wave, False
-        self.kept_dx = waiting.kept_dx
+        # (the step they left with is their rack's: it stood still while they waited)
+        self.kept_dx = self.config.speeds.rack_step if waiting.rack is None else waiting.rack.dx
         self.rack = waiting.rack or Rack(self.config, self.config.start_top(self.wave),
                                          self.store)
         self._shields_up = waiting.shields
