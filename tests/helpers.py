@@ -65,6 +65,22 @@ def step_until(world: World, done: Callable[[TickReport], bool], actions: int = 
     raise AssertionError(f"condition not met in {limit} ticks")
 
 
+def rack_moves(world: World, done: Callable[[World], bool],
+               limit: int = 2000) -> list[tuple[int, int]]:
+    """The reference alien's moves (dx, dy), tick by tick, until `done(world)`, with the
+    rack's bombs held back (a death comes only when a test asks for one)."""
+    rack, moves = world.rack, []
+    for _ in range(limit):
+        world.alien_fire_timer = 10**9
+        x, top = rack.ref_x, rack.ref_top
+        world.step(0)
+        if (rack.ref_x, rack.ref_top) != (x, top):
+            moves.append((rack.ref_x - x, rack.ref_top - top))
+        if done(world):
+            return moves
+    raise AssertionError(f"not done in {limit} ticks")
+
+
 class FakeClock:
     """A clock the test moves by hand, for windowed sessions at any frame rate."""
 

@@ -17,7 +17,7 @@ from invaders.game.entities import Blast, Bomb, BombType, CannonState
 from invaders.game.events import Event
 from invaders.game.kinds import Kind
 from invaders.game.world import World
-from tests.helpers import step_until
+from tests.helpers import rack_moves, step_until
 
 G = Geometry()
 
@@ -233,14 +233,8 @@ def _rack_moves(world: World, turns: int, live: int = 55) -> list[tuple[int, int
     active(world)
     for alien in world.rack.live_aliens()[live:]:
         world.rack.kill(alien, world.store)
-    rack, moves = world.rack, []
-    while sum(dy > 0 for _, dy in moves) < turns:
-        x, top = rack.ref_x, rack.ref_top
-        world.step(0)
-        if (rack.ref_x, rack.ref_top) != (x, top):
-            moves.append((rack.ref_x - x, rack.ref_top - top))
-        assert len(moves) < 1000
-    return moves
+    lowest = world.rack.ref_top + turns * world.config.speeds.rack_drop
+    return rack_moves(world, lambda w: w.rack.ref_top >= lowest, limit=10000)
 
 
 SPEED_CHECKS: dict[str, tuple[int, Callable[[World], object], Callable[[int], object]]] = {

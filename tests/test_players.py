@@ -19,7 +19,7 @@ from invaders.game.saucer import launch
 from invaders.game.world import Phase, World
 from invaders.lab.autopilot import Autopilot
 from invaders.lab.picture import hud_texts, turn_texts
-from tests.helpers import step_until, through_the_prompt
+from tests.helpers import rack_moves, step_until, through_the_prompt
 
 
 def _lose_a_ship(world: World) -> int:
@@ -192,19 +192,9 @@ def test_before_a_new_game_play_player_1_flashes_the_new_games_score_not_the_las
 
 
 
-def _march(world: World, done: Callable[[World], bool], limit: int = 2000) -> list[int]:
-    """The rack's steps until `done(world)`, its bombs held back (deaths come only when a
-    test asks for them)."""
-    steps, x = [], world.rack.ref_x
-    for _ in range(limit):
-        world.alien_fire_timer = 10**9
-        world.step(0)
-        if world.rack.ref_x != x:
-            steps.append(world.rack.ref_x - x)
-            x = world.rack.ref_x
-        if done(world):
-            return steps
-    raise AssertionError(f"not done in {limit} ticks")
+def _march(world: World, done: Callable[[World], bool]) -> list[int]:
+    """The rack's steps across until `done(world)`."""
+    return [dx for dx, _ in rack_moves(world, done)]
 
 
 def _one_alien_left(world: World) -> None:
