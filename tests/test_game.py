@@ -280,7 +280,8 @@ def test_a_cleared_wave_starts_the_next_lower_with_fresh_shields():
     world.bunkers[0].mask.clear()
     for alien in world.rack.live_aliens()[1:]:
         world.rack.kill(alien, world.store)
-    world.kill_alien(world.rack.live_aliens()[0])
+    last = world.rack.live_aliens()[0]
+    world.kill_alien(last, last.x + 8)
     step_until(world, lambda r: Event.WAVE_STARTED in r.events, limit=200)
     assert world.wave == 2
     assert world.rack.ref_top == DEFAULT_CONFIG.start_top(2) == 152
@@ -311,7 +312,8 @@ def test_the_ground_line_keeps_its_chips_through_a_lost_ship_and_is_drawn_afresh
     assert world.ships == 2 and mask_rows(world.ground) == chipped
     for alien in world.rack.live_aliens()[1:]:
         world.rack.kill(alien, world.store)
-    world.kill_alien(world.rack.live_aliens()[0])
+    last = world.rack.live_aliens()[0]
+    world.kill_alien(last, last.x + 8)
     step_until(world, lambda r: Event.WAVE_STARTED in r.events, limit=200)
     assert world.wave == 2 and mask_rows(world.ground) == ("#" * 224,)
 
@@ -325,14 +327,14 @@ def test_a_deep_copy_of_a_world_plays_on_alone_as_the_same_inputs_from_the_start
     detector starts afresh from a copy of the broad phase), whichever broad phase; and the
     world copied stays as it was (the pictures the game changes in place, its shields,
     ground and a waiting player's shields, are its own)."""
-    world, pilot, inputs = World(5, players=players, broadphase=broadphase), Autopilot(5), []
+    world, pilot, inputs = World(1, players=players, broadphase=broadphase), Autopilot(1), []
     for _ in range(4000):
         inputs.append(pilot.actions(world))
         world.step(inputs[-1])
     assert world.ground.count() < 224 and (players == 1 or len(world.waiting.shields) == 4)
 
     def replayed() -> World:
-        again = World(5, players=players, broadphase=broadphase)
+        again = World(1, players=players, broadphase=broadphase)
         for bits in inputs:
             again.step(bits)
         return again
@@ -553,6 +555,47 @@ def test_after_a_kill_fire_is_refused_until_the_aliens_explosion_ends():
     # Presses fall on every other tick from killed + 2: the one at killed + 16, when the
     # 16-tick explosion has just ended, is the first that fires (a 15-tick lockout).
     assert first_shot == killed + DEFAULT_CONFIG.timing.alien_explosion
+
+
+@pytest.mark.parametrize("shot_x, on_the_cursor, held", [
+    (95, True, 17), (96, True, 16), (95, False, 16), (0, False, 16)])
+def test_a_kill_holds_the_rack_through_its_explosion_and_a_dead_alien_under_the_cursor(
+        shot_x, on_the_cursor, held):
+    """The explosion's countdown takes the alien draw of every tick it runs, the tick it ends
+    included (1538); a shot left of x 96 runs in the mid-screen interrupt, before the cursor
+    is set on the next alien (03BB, 1A06, 00AB), and if that is the one killed its draw is
+    spent on the empty place (0100). Then the walk goes on where it was."""
+    world = active_world()
+    _quiet(world)
+    rack = world.rack
+    step_until(world, lambda r: rack.cursor > 12)  # (mid-walk, on the second row)
+    coming = [index for index, alien in enumerate(rack.aliens)
+              if alien is not None and index >= rack.next_index()]
+    killed = coming[0] if on_the_cursor else coming[3]
+    world.kill_alien(rack.aliens[killed], shot_x)
+    draws = rack.draws
+    for _ in range(held):
+        world.step(0)
+    assert rack.draws == draws
+    world.step(0)
+    assert rack.draws == draws + 1
+    assert rack.last_drawn(1) == [coming[1] if on_the_cursor else coming[0]]
+    twin = copy.deepcopy(world)  # (a hold decides the future: in the hash)
+    twin.rack.hold(3)
+    assert twin.state_hash() != world.state_hash()
+
+
+def test_a_hold_runs_out_while_a_dead_cannon_freezes_the_rack():
+    """The ROM's alien draw runs every frame, the cannon's death or not (0100): the rack
+    marches on at once when the next cannon comes."""
+    world = active_world()
+    _quiet(world)
+    rack = world.rack
+    world.kill_alien(rack.aliens[rack.next_index()], 10)
+    world.kill_cannon()
+    draws = rack.draws
+    step_until(world, lambda r: world.cannon.state is CannonState.ACTIVE, limit=400)
+    assert rack.draws == draws + 1  # (the tick the cannon comes)
 
 
 def test_alien_fire_goes_on_during_an_aliens_explosion():

@@ -62,9 +62,9 @@ def test_the_watch_names_every_changed_place_in_whole_games_looked_at_now_and_th
                 world = copy.deepcopy(world)
             live = world.rack.live_aliens()
             if len(live) > 2 and draw.random() < 0.3:
-                world.kill_alien(draw.choice(live))
+                world.kill_alien(draw.choice(live), draw.randrange(224))  # (either half)
             looker.look(world)
-        assert looker.partial > 300 and looker.racks > 10 and looker.fewest < 4
+        assert looker.partial > 250 and looker.racks > 10 and looker.fewest < 4
 
 
 def test_a_rack_hidden_and_drawn_again_between_two_looks_is_looked_at_whole():

@@ -295,7 +295,7 @@ def test_the_kept_backdrop_and_rack_are_the_picture_drawn_afresh_in_every_frame_
     # has its pictures, a plain one and two over an array as the environment's, RGB and
     # grey; one more draws both games in turn, each with a slot of its own, as a batch of
     # games does, and two more in one slot.)
-    worlds = [(World(seed=5, players=2), Autopilot(5)), (World(seed=7), Autopilot(7))]
+    worlds = [(World(seed=1, players=2), Autopilot(1)), (World(seed=7), Autopilot(7))]
     own = [(Picture(), _canvas_picture(), _canvas_picture(grey=True)) for _ in worlds]
     shared, afresh = _canvas_picture(), _DrawnAfresh()
     one_slot = (Picture(), _canvas_picture())

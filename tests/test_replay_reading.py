@@ -679,7 +679,7 @@ def test_the_block_reader_gives_what_the_json_parser_gives(written, tmp_path, da
 
 
 @pytest.mark.parametrize("limit, value", [("MAX_RUNS", 40), ("MAX_TICKS", 500),
-                                          ("MAX_LINE_BYTES", 600)])
+                                          ("MAX_LINE_BYTES", 500)])
 def test_each_limit_refuses_the_same_through_either_reader(written, limit, value):
     with contextlib.ExitStack() as patched:
         for module in (replay_checks, replay_reading):  # (each has the limit as its own name)

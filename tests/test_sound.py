@@ -68,7 +68,8 @@ def test_the_march_runs_on_through_an_aliens_explosion():
 
     def kill(w: World) -> None:
         if w.tick == kill_at:
-            w.kill_alien(next(a for a in w.rack.aliens if a is not None and a.alive))
+            alien = next(a for a in w.rack.aliens if a is not None and a.alive)
+            w.kill_alien(alien, alien.x + 8)
 
     exploding = []
 

@@ -148,7 +148,7 @@ class Timing(Section):
 
     cannon_wait: int = within(128, 1, 100000)  # before a new cannon appears or moves
     alien_fire_delay: int = within(48, 0, 100000)  # after the cannon becomes active
-    alien_explosion: int = within(16, 1, 100000)  # rack and new fire frozen meanwhile
+    alien_explosion: int = within(16, 1, 100000)  # no new shot meanwhile; the rack held as long
     shot_burst: int = within(16, 1, 100000)
     bomb_burst_steps: int = within(3, 1, 100000)  # counter 4: drawn at 3, erased at 0
     # UNCERTAIN (13.1): we take the code's 12 swaps x 5 frames

@@ -26,6 +26,8 @@ class Rack:
     edge bump) and the picture frame toggles. N live aliens therefore take N ticks a step.
     A wave starts on an empty field: each alien appears (joins the store) at its first draw,
     so the first pass of the cursor draws the rack one alien a tick (0141, 1B10).
+    A kill holds the cursor (`hold`): the ROM spends those ticks' draws on the alien's
+    explosion, and on a dead alien the cursor was already set on.
     """
 
     def __init__(self, config: GameConfig, top: int, store: BodyStore) -> None:
@@ -50,6 +52,7 @@ class Rack:
         # what a RackWatch compares between two looks.
         self.draws = 0
         self.breaks = 0
+        self.held = 0  # ticks whose draw is spent before the cursor moves on (`hold`)
 
     def __deepcopy__(self, memo: dict[int, Any]) -> Rack:
         """A copy with aliens of its own (each copied once, through `memo`); its numbers,
@@ -82,6 +85,25 @@ class Rack:
         self._extent = None
         self.breaks += 1
         store.remove(alien)
+
+    def next_index(self) -> int:
+        """The index of the alien the cursor draws next, the first live one if it has
+        passed them all (the last one ahead was killed: it wraps at its next draw)."""
+        live = self._live_indices
+        at = bisect_left(live, self.cursor)
+        return live[at] if at < len(live) else live[0]
+
+    def hold(self, ticks: int) -> None:
+        """Spend the next `ticks` ticks' draws: the cursor stands still whatever else
+        moves (the ROM's DrawAlien runs every frame, 0100, and waits on none of it)."""
+        self.held = ticks
+
+    def spend_held(self) -> bool:
+        """Spend this tick's draw if it is held; say whether it was."""
+        if self.held == 0:
+            return False
+        self.held -= 1
+        return True
 
     def set_step(self, kept: int) -> None:
         """March with the step a player's page kept, as InitRack sets it at the start of

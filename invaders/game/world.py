@@ -52,6 +52,9 @@ LEFT, RIGHT, FIRE, START, START2 = (int(a) for a in (
     Action.LEFT, Action.RIGHT, Action.FIRE, Action.START, Action.START2))
 MOVES = LEFT | RIGHT
 SCORE_WRAP = 10_000  # the score is four BCD digits in the ROM
+# The player's shot runs in the mid-screen interrupt left of this column, in the end-of-screen
+# one from it (its Xr's top bit against the beam's half: 03BB, 1A06; x is Xr - 32).
+MID_SCREEN_X = 96
 
 
 class Phase(IntEnum):
@@ -290,11 +293,11 @@ class World:
         self._move_shot()
         self._move_cannon(actions, fire_pressed)
         # The rack marches while the cannon plays, and during its wait at a wave's start;
-        # only the wait after a cannon's death, and an alien's explosion, freeze it.
+        # the wait after a cannon's death freezes it, and a kill holds it (`kill_alien`).
         cannon_state = self.cannon.state
         marching = cannon_state is ACTIVE or (
             cannon_state is WAITING and not self.respawning)
-        if marching and not (self.explosions and self.alien_exploding):
+        if not self.rack.spend_held() and marching:
             alien = self.rack.step(self.store)
             if alien is not None and alien.top >= self.config.geometry.invasion_top:
                 # The cannon is blown up first, then the game is over (1971 -> 16E6).
@@ -440,7 +443,7 @@ class World:
     # --- state the rules ask about ---------------------------------------------------------
     @property
     def alien_exploding(self) -> bool:
-        """An alien explosion freezes the rack and new alien fire."""
+        """An alien explosion keeps the shot's object busy: no new shot meanwhile."""
         return bool(self.explosions) and any(e.blast is Blast.ALIEN for e in self.explosions)
 
     @property
@@ -512,8 +515,16 @@ class World:
         if slot.btype is PLUNGER and self.rack.live < self.config.rules.plunger_min_aliens:
             slot.off = True
 
-    def kill_alien(self, alien: Alien) -> None:
-        self.rack.kill(alien, self.store)
+    def kill_alien(self, alien: Alien, shot_x: int) -> None:
+        """Killed by the shot at column `shot_x`. The cursor holds through the explosion:
+        its countdown takes the draw of every tick it runs, the tick it ends included
+        (1538). A shot left of MID_SCREEN_X runs in the mid-screen interrupt, just before
+        the cursor is set on the next alien (00A8, 00AB): if that is the one killed, one
+        more tick's draw is spent on its empty place (0100)."""
+        rack = self.rack
+        on_the_cursor = shot_x < MID_SCREEN_X and alien.index == rack.next_index()
+        rack.kill(alien, self.store)
+        rack.hold(self.config.timing.alien_explosion + on_the_cursor)
         self.aliens_killed += 1
         self.add_score(self.config.rules.alien_points[alien.row])
         self.explosions.append(
@@ -635,7 +646,9 @@ class World:
                      self.store.next_id, self.invaded, self.respawning),
             "rack": (rack.ref_x, rack.ref_top, rack.dx, rack.frame, rack.cursor, rack.live,
                      tuple((a.id, a.x, a.y, a.frame, a.alive) if a is not None else None
-                           for a in rack.aliens)),
+                           for a in rack.aliens))
+                    # (held only when it is: a state with none hashes as it did before)
+                    + ((rack.held,) if rack.held else ()),
             "cannon": (int(cannon.state), cannon.timer, cannon.x, cannon.y),
             "shot": None if shot is None else (shot.id, shot.x, shot.y),
             "bombs": tuple((int(s.btype), s.steps, s.burst, s.burst_x, s.burst_y,
