@@ -24,6 +24,7 @@ from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG
 from invaders.game.entities import (
     Alien,
+    Blast,
     Bomb,
     BombType,
     Bunker,
@@ -190,7 +191,7 @@ def test_fire_needs_a_new_press_and_only_one_shot_flies():
     assert world.shot.y == G.shot_spawn_top
     held = [world.step(Action.FIRE) for _ in range(80)]  # held down: never fires again
     assert not any(Event.SHOT_FIRED in r.events for r in held)
-    step_until(world, lambda r: world.shot is None and not world.shot_bursting)
+    step_until(world, lambda r: world.shot_ready)
     world.step(0)
     assert Event.SHOT_FIRED in world.step(Action.FIRE).events
 
@@ -537,24 +538,61 @@ def test_the_first_tick_reports_the_first_wave_starting():
     assert Event.WAVE_STARTED not in world.step(0).events  # once
 
 
-def test_after_a_kill_fire_is_refused_until_the_aliens_explosion_ends():
+def _first_fire(world: World, after: int) -> int:
+    """The first tick after `after` (the tick the world is at) at which a press fires, each
+    tick tried on a copy of the world (the button released until then)."""
+    for tick in range(after + 1, after + 100):
+        trial = copy.deepcopy(world)
+        while trial.tick < tick:
+            trial.step(0)
+        if Event.SHOT_FIRED in trial.step(int(Action.FIRE)).events:
+            return tick
+    raise AssertionError("never fires")
+
+
+@pytest.mark.parametrize("column, lockout", [(2, 16), (7, 15)])
+def test_after_a_kill_fire_is_refused_until_the_aliens_explosion_ends(column, lockout):
+    """The shot's object is freed when the 16-tick explosion ends, and a new shot starts
+    in the mid-screen interrupt (1B2A), in the same tick right of x 96, in the next one
+    left of it, where the object is freed in the mid-screen interrupt itself."""
     world = active_world()
     _quiet(world)
-    target = world.rack.aliens[2].x + 7  # the bottom alien of column 3, between two shields
+    target = world.rack.aliens[column].x + 7  # a bottom alien between two shields
     for _ in range(target - 8 - world.cannon.x):
         world.step(int(Action.RIGHT))
     world.step(int(Action.FIRE))
     killed = step_until(world, lambda r: Event.ALIEN_KILLED in r.events, limit=100).tick
-    assert (world.aliens_killed, world.score, world.rack.aliens[2]) == (1, 10, None)
-    first_shot = None
-    while first_shot is None:  # release, press, release, press...
-        world.step(0)
-        report = world.step(int(Action.FIRE))
-        if Event.SHOT_FIRED in report.events:
-            first_shot = report.tick
-    # Presses fall on every other tick from killed + 2: the one at killed + 16, when the
-    # 16-tick explosion has just ended, is the first that fires (a 15-tick lockout).
-    assert first_shot == killed + DEFAULT_CONFIG.timing.alien_explosion
+    assert (world.aliens_killed, world.rack.aliens[column]) == (1, None)
+    assert (world.shot_wait > DEFAULT_CONFIG.timing.alien_explosion) == (target < 96)
+    assert _first_fire(world, killed) == killed + 1 + lockout
+
+
+@pytest.mark.parametrize("shield, wait", [(0, 17), (2, 16)])
+def test_after_a_burst_fire_is_refused_until_it_ends_a_tick_longer_left_of_x_96(
+        shield, wait):
+    """The burst's 16 steps of the shot's object (03D7), then the new shot in the
+    mid-screen interrupt: a tick later left of x 96 (its object run in that interrupt)."""
+    world = active_world()
+    _quiet(world)
+    for _ in range(world.bunkers[shield].x + 8 - 8 - world.cannon.x):
+        world.step(int(Action.RIGHT))
+    world.step(int(Action.FIRE))
+    report = step_until(world, lambda r: Event.SHOT_BURST in r.events, limit=100)
+    assert Event.BUNKER_HIT in report.events
+    assert _first_fire(world, report.tick) == report.tick + wait
+
+
+@pytest.mark.parametrize("x, wait", [(95, 2), (96, 1)])
+def test_a_shot_taken_away_frees_its_object_next_tick_or_the_one_after_left_of_x_96(x, wait):
+    """A shot that hits the saucer is taken away at once (1579 -> 1545); its object is
+    freed at its next run and a new shot starts in the mid-screen interrupt."""
+    world = active_world()
+    _quiet(world)
+    world.step(int(Action.FIRE))
+    world.step(0)  # (the button released)
+    world.store.move(world.shot, x, world.shot.y)
+    world.remove_shot()  # (as in the response of the tick just run)
+    assert _first_fire(world, world.tick - 1) == world.tick - 1 + wait
 
 
 @pytest.mark.parametrize("shot_x, on_the_cursor, held", [
@@ -603,7 +641,7 @@ def test_alien_fire_goes_on_during_an_aliens_explosion():
     pilot = Autopilot(3)
     fired_in_explosion = 0
     for _ in range(6000):
-        exploding = world.alien_exploding
+        exploding = any(e.blast is Blast.ALIEN for e in world.explosions)
         report = world.step(pilot.actions(world))
         fired_in_explosion += exploding and Event.BOMB_FIRED in report.events
     assert fired_in_explosion > 0

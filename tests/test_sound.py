@@ -75,11 +75,11 @@ def test_the_march_runs_on_through_an_aliens_explosion():
 
     def kill_then_watch(w: World) -> None:
         kill(w)
-        exploding.append((w.tick, w.alien_exploding))
+        exploding.append((w.tick, w.rack.held > 0))
 
     played = _note_ticks(world, board, 60, kill_then_watch)
     assert played[0] == first + 52
-    assert dict(exploding)[first + 51]  # the tick of that note began mid-explosion
+    assert dict(exploding)[first + 51]  # the tick of that note began with the rack held
 
 
 def test_without_an_audio_device_the_game_runs_silent(monkeypatch):

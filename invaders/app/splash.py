@@ -200,7 +200,7 @@ class DemoPilot:
         self.move = 0
 
     def actions(self, world: World) -> int:
-        free = world.shot is None and not world.shot_bursting and not world.alien_exploding
+        free = world.shot_ready
         fire = 0
         if free and not world.fire_was_down and world.cannon.state == 1:
             self.at = (self.at + 1) % len(self.MOVES)

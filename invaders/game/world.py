@@ -223,6 +223,7 @@ class World:
         self.slots = bombs.new_slots()
         self.saucer = saucer.SaucerState(timer=cfg.timing.saucer_timer)
         self.shots_removed = 0
+        self.shot_wait = 0  # ticks before the shot's object takes a new shot (`_shot_busy`)
         self.explosions: list[Explosion] = []
 
     def _clear_field(self) -> None:
@@ -246,6 +247,8 @@ class World:
         self.fire_was_down = fire_down
         if self.explosions:
             self._age_explosions()
+        if self.shot_wait:
+            self.shot_wait -= 1
         if self.phase is PLAYING:
             self._move(actions, fire_pressed)
         elif self.phase is WAVE_END:
@@ -356,10 +359,7 @@ class World:
                 x = g.cannon_max_x
             if x != cannon.x:
                 self.store.move(cannon, x, cannon.y)
-        # The shot stays busy through an alien's explosion: fire is refused until it ends
-        # (1512, 1626).
-        if (fire_pressed and self.shot is None and not self.shot_bursting
-                and not self.alien_exploding):
+        if fire_pressed and self.shot_ready:
             self.shot = Shot(self.store.new_id(), cannon.x + g.cannon_centre, g.shot_spawn_top)
             self.store.add(self.shot)
             self.events.append(Event.SHOT_FIRED)
@@ -442,14 +442,9 @@ class World:
 
     # --- state the rules ask about ---------------------------------------------------------
     @property
-    def alien_exploding(self) -> bool:
-        """An alien explosion keeps the shot's object busy: no new shot meanwhile."""
-        return bool(self.explosions) and any(e.blast is Blast.ALIEN for e in self.explosions)
-
-    @property
-    def shot_bursting(self) -> bool:
-        """The shot's object is busy while its burst shows: no new shot meanwhile."""
-        return bool(self.explosions) and any(e.blast is Blast.SHOT for e in self.explosions)
+    def shot_ready(self) -> bool:
+        """The shot's object is free: the fire button would fire now."""
+        return self.shot is None and self.shot_wait == 0
 
     # --- outcomes, called by movement and by collision response -----------------------------
     def add_score(self, points: int) -> None:
@@ -467,6 +462,7 @@ class World:
         """Every removal of the player shot counts for the saucer's score and side."""
         if self.shot is None:
             return
+        self._shot_busy(1, self.shot.x)
         self.store.remove(self.shot)
         self.shot = None
         self.shots_removed += 1
@@ -484,11 +480,20 @@ class World:
         listing put this burst 1 px off; ours gives this place, so we keep it.
         """
         self.remove_shot()
+        self._shot_busy(self.config.timing.shot_burst, x)
         dx, dy = self.config.geometry.shot_burst_offset
         corner = (x + dx, top + dy)
         self.erode(art.mask_of(art.SHOT_BURST), *corner)
         self.explosions.append(Explosion(Blast.SHOT, *corner, self.config.timing.shot_burst))
         self.events.append(Event.SHOT_BURST)
+
+    def _shot_busy(self, ticks: int, x: int) -> None:
+        """The shot's object, whose shot ended at column `x` this tick, takes a new one
+        `ticks` ticks from now: after its burst, or an alien's explosion, or at once. One
+        more left of MID_SCREEN_X: there the object is freed in the mid-screen interrupt,
+        and a new shot, its column set back to 0x30 when freed (1B2A, 0436), starts in the
+        mid-screen interrupt after the next reading of the fire button (1618)."""
+        self.shot_wait = ticks + (x < MID_SCREEN_X)
 
     def burst_bomb(self, bomb: Bomb, x: int, y: int) -> None:
         """A bomb bursts with its 6x8 picture at `bomb_burst_offset` from (x, y), (-2, 2),
@@ -525,6 +530,7 @@ class World:
         on_the_cursor = shot_x < MID_SCREEN_X and alien.index == rack.next_index()
         rack.kill(alien, self.store)
         rack.hold(self.config.timing.alien_explosion + on_the_cursor)
+        self._shot_busy(self.config.timing.alien_explosion, shot_x)  # (1512, 1626)
         self.aliens_killed += 1
         self.add_score(self.config.rules.alien_points[alien.row])
         self.explosions.append(
@@ -666,6 +672,8 @@ class World:
         }
         if not self.scoring:
             groups["game"] += ("demo",)
+        if self.shot_wait:  # (only while the shot's object waits, as the held rack)
+            groups["shot"] = (groups["shot"], "wait", self.shot_wait)
         if self.waiting is not None:  # (a one-player game's groups are as they always were)
             groups["game"] += (self.player, self.waiting.state(),
                                b"".join(mask_bytes(m) for m in self._shields_up))
