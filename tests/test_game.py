@@ -593,6 +593,9 @@ def test_a_shot_taken_away_frees_its_object_next_tick_or_the_one_after_left_of_x
     world.store.move(world.shot, x, world.shot.y)
     world.remove_shot()  # (as in the response of the tick just run)
     assert _first_fire(world, world.tick - 1) == world.tick - 1 + wait
+    twin = copy.deepcopy(world)  # (the wait decides the future: in the hash)
+    twin.shot_wait += 1
+    assert twin.state_hash() != world.state_hash()
 
 
 @pytest.mark.parametrize("shot_x, on_the_cursor, held", [
