@@ -489,7 +489,7 @@ class World:
 
     def _shot_busy(self, ticks: int, x: int) -> None:
         """The shot's object, whose shot ended at column `x` this tick, takes a new one
-        `ticks` ticks from now: after its burst, or an alien's explosion, or at once. One
+        `ticks` ticks from now: after its burst, or an alien's explosion, or next tick. One
         more left of MID_SCREEN_X: there the object is freed in the mid-screen interrupt,
         and a new shot, its column set back to 0x30 when freed (1B2A, 0436), starts in the
         mid-screen interrupt after the next reading of the fire button (1618)."""
