@@ -1622,36 +1622,64 @@ def test_the_reward_is_the_points_scored_across_the_counters_wrap_at_10000():
     assert world.score == 20 and reward == 30.0
 
 
-SIZES = [(84, 84), (224, 224), (1, 1), (7, 200), (210, 13), (83, 97), (160, 160)]
+SIZES = [(84, 84), (224, 224), (1, 1), (7, 200), (210, 13), (83, 97), (160, 160), (56, 28)]
+
+
+def _canvases(seed: int) -> list[np.ndarray]:
+    """Grey canvases as the picture draws them (a lit byte 255, any other 0): sparse and
+    dense random ones, every pixel lit (the largest sums there are: the exactness's bound)
+    and one whose every 8 pixels of a row are another set lit, all 256 of them in turn."""
+    rng = np.random.default_rng(seed)
+    sets = (np.arange(256 * 28).reshape(256, 28) * 29 + seed) % 256
+    every = np.unpackbits(sets.astype(np.uint8)[:, :, None], axis=2).reshape(256, 224)
+    return [255 * (rng.random((256, 224)) < 0.05).astype(np.uint8),
+            255 * (rng.random((256, 224)) < 0.5).astype(np.uint8),
+            np.full((256, 224), 255, np.uint8), 255 * every]
+
+
+def _tinted(canvas: np.ndarray) -> np.ndarray:
+    """The grey picture a canvas shows under the cabinet's gel."""
+    from invaders.env.observations import gel_array
+
+    return np.minimum(canvas, gel_array(grayscale=True))
 
 
 @pytest.mark.parametrize("size", SIZES)
-def test_the_shrink_is_the_exact_area_average_of_any_picture(size):
-    """Pixel for pixel against the definition: random grey levels, and white everywhere
-    (the largest sums there are: the exactness's bound)."""
+def test_the_shrink_is_the_exact_area_average_of_the_picture_drawn(size):
+    """Pixel for pixel against the definition, the canvas tinted by the gel, whether the
+    table makes the columns' outputs (widths a multiple of 28) or products do."""
     from invaders.env.observations import Shrink
 
-    rng = np.random.default_rng(sum(size))
     shrink = Shrink(size)
-    for picture in (rng.integers(0, 256, (256, 224), dtype=np.uint8),
-                    np.full((256, 224), 255, np.uint8)):
-        shrink.picture(0)[:] = picture.reshape(shrink.picture(0).shape)
-        assert np.array_equal(shrink.shrink()[0], _area_average(picture, *size))
+    assert (shrink.cols is None) == (size[1] % 28 == 0)
+    for canvas in _canvases(sum(size)):
+        shrink.read(canvas)
+        assert np.array_equal(shrink.shrink()[0], _area_average(_tinted(canvas), *size))
 
 
 @pytest.mark.parametrize("size", SIZES)
 def test_games_shrunk_together_are_each_the_exact_area_average_of_its_picture(size):
     from invaders.env.observations import Shrink
 
-    rng = np.random.default_rng(sum(size))
-    pictures = [np.full((256, 224), 255, np.uint8), np.zeros((256, 224), np.uint8),
-                *rng.integers(0, 256, (5, 256, 224), dtype=np.uint8)]
-    shrink = Shrink(size, games=len(pictures))  # (products of several games, and of one)
-    for game, picture in enumerate(pictures):
-        shrink.picture(game)[:] = picture.reshape(shrink.picture(game).shape)
+    canvases = [np.zeros((256, 224), np.uint8), *_canvases(sum(size))]
+    shrink = Shrink(size, games=len(canvases))  # (products of several games, and of one)
+    for game, canvas in enumerate(canvases):
+        shrink.read(canvas, game)
     small = shrink.shrink()
-    for game, picture in enumerate(pictures):
-        assert np.array_equal(small[game], _area_average(picture, *size))
+    for game, canvas in enumerate(canvases):
+        assert np.array_equal(small[game], _area_average(_tinted(canvas), *size))
+
+
+def test_each_8_pixels_are_read_as_a_number_of_their_own_for_which_are_lit():
+    """The 256 sets of 8 pixels lit give 256 numbers from 0 to 255, one a set, wherever
+    they stand in a row (the table's entries are found by them)."""
+    from invaders.env.observations import read_groups
+
+    sets = np.unpackbits(np.arange(256, dtype=np.uint8)[:, None], axis=1)  # (256, 8)
+    canvas = 255 * np.tile(sets, (1, 28))
+    numbers = read_groups(canvas, np.zeros((256, 28), np.uint64))
+    assert (numbers == numbers[:, :1]).all()
+    assert sorted(numbers[:, 0].tolist()) == list(range(256))
 
 
 @pytest.mark.parametrize("games", [1, 8])
@@ -1659,19 +1687,25 @@ def test_games_shrunk_together_are_each_the_exact_area_average_of_its_picture(si
 def test_each_product_of_the_shrink_stays_on_one_blas_thread_and_the_blocks_cover_it(
         size, games):
     """The invariant the blocked shrink keeps: no product passes the work under which
-    OpenBLAS stays on the calling thread, each reads and writes the shrink's own arrays (no
-    copy), and each axis's blocks, put back together, are a period's whole weights (each
-    output once, none of its weights left out), the periods covering the picture."""
+    OpenBLAS stays on the calling thread (a product of the rows' is one for each period of
+    each game), each reads and writes the shrink's own arrays (no copy), and each axis's
+    blocks, put back together, are a period's whole weights (each output once, none of its
+    weights left out), the periods covering the picture."""
     from invaders.env.observations import BLOCK_WORK, Shrink, area_weights
 
     shrink = Shrink(size, games)
     for weights, inputs, outputs in shrink.row_products:
-        assert weights.shape[0] * weights.shape[1] * inputs.shape[1] <= BLOCK_WORK
-        assert np.shares_memory(inputs, shrink._grey) and np.shares_memory(outputs, shrink._half)
+        assert weights.shape[0] * weights.shape[1] * inputs.shape[-1] <= BLOCK_WORK
+        assert np.shares_memory(inputs, shrink._narrow)
+        assert np.shares_memory(outputs, shrink._small)
     for weights, inputs, outputs in shrink.column_products:
         assert inputs.shape[0] * weights.shape[0] * weights.shape[1] <= BLOCK_WORK
-        assert np.shares_memory(inputs, shrink._half) and np.shares_memory(outputs, shrink._small)
-    for axis, size_in, size_out in ((shrink.rows, 256, size[0]), (shrink.cols, 224, size[1])):
+        assert np.shares_memory(inputs, shrink._read)
+        assert np.shares_memory(outputs, shrink._narrow)
+    axes = [(shrink.rows, 256, size[0])]
+    if shrink.cols is not None:
+        axes.append((shrink.cols, 224, size[1]))
+    for axis, size_in, size_out in axes:
         assert axis.periods * axis.period_in == size_in
         assert axis.periods * axis.period_out == size_out
         weights = area_weights(axis.period_in, axis.period_out)

@@ -128,7 +128,7 @@ class Games:
             self.rows.obs[i] = env.frame(first)
         else:
             assert env.world is not None
-            self._pixels.tint_into(env.world, self._shrink.picture(i), slot=i)
+            self._shrink.read(self._pixels.draw(env.world, slot=i), i)
 
     def _shrunk(self, first: np.ndarray, stepped: bool = True) -> None:
         """The games' grey pictures made smaller, each the newest of its game's stack (a

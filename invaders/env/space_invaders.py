@@ -353,7 +353,7 @@ class SpaceInvadersEnv(gym.Env):
         if self.obs_type == "state":
             return self._state.observe(self.world)
         if self._shrink is not None:
-            self._pixels.tint_into(self.world, self._shrink.picture(0))
+            self._shrink.read(self._pixels.draw(self.world))
             frame = self._shrink.shrink()[0]
         else:
             frame = self._pixels.observe(self.world)
