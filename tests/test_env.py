@@ -1670,6 +1670,30 @@ def test_games_shrunk_together_are_each_the_exact_area_average_of_its_picture(si
         assert np.array_equal(small[game], _area_average(_tinted(canvas), *size))
 
 
+@pytest.mark.parametrize(("size", "games"), [((84, 84), 1), ((84, 84), 8), ((83, 97), 2)])
+def test_the_shrink_allocates_no_array_a_step(size, games):
+    """Read and shrunk in the arrays it keeps (the docstring's "nothing allocated"): what
+    Python traces while it works stays under the smallest array it handles, the 84x84
+    output of one game (7,056 bytes), so neither its lookup nor a product made a copy."""
+    import tracemalloc
+
+    from invaders.env.observations import Shrink
+
+    shrink = Shrink(size, games)
+    canvas = _canvases(1)[1]
+    shrink.read(canvas)
+    shrink.shrink()  # (numpy's first calls may cache what they need)
+    tracemalloc.start()
+    try:
+        for game in range(games):
+            shrink.read(canvas, game)
+        shrink.shrink()
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 4096
+
+
 def test_each_8_pixels_are_read_as_a_number_of_their_own_for_which_are_lit():
     """The 256 sets of 8 pixels lit give 256 numbers from 0 to 255, one a set, wherever
     they stand in a row (the table's entries are found by them)."""

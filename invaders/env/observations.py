@@ -337,7 +337,8 @@ class Shrink:
     def shrink(self) -> np.ndarray:
         """Every game's picture read made smaller, in `out` (games, height, width). (The
         lookup's indices are in the table by how they are made, so numpy is told not to
-        check them: `clip`, which then changes none, takes half the time.)"""
+        check them: `clip`, which then changes none, takes half the time, and writes
+        straight into the array kept, where `raise` fills a buffer first.)"""
         np.take(self.table, self._codes.reshape(-1).view(np.int64), mode="clip",
                 out=self._read.reshape(-1).view(self.table.dtype))
         for weights, inputs, outputs in self.column_products:
