@@ -639,6 +639,57 @@ def test_a_hold_runs_out_while_a_dead_cannon_freezes_the_rack():
     assert rack.draws == draws + 1  # (the tick the cannon comes)
 
 
+def test_the_rack_marches_through_a_hit_cannons_blow_up_delay_then_freezes():
+    """The ROM's player object counts the blow-up delay (5) down a frame at a time and
+    clears playerOK, which stops the rack's cursor, only when it runs out (0296-029B): the
+    5 frames after the hit each draw an alien, the rest of the death and the wait none."""
+    world = active_world()
+    _quiet(world)
+    rack = world.rack
+    world.kill_cannon()  # (as a bomb's contact does, in a tick's response)
+    draws = rack.draws
+    swap = DEFAULT_CONFIG.timing.cannon_death_swap
+    for frame in range(1, swap + 1):
+        world.step(0)
+        assert rack.draws == draws + frame and world.blowing_up
+    world.step(0)
+    assert rack.draws == draws + swap and not world.blowing_up
+    step_until(world, lambda r: world.cannon.state is CannonState.ACTIVE, limit=400)
+    assert rack.draws == draws + swap + 1  # (the tick the cannon comes)
+
+
+def test_bombs_start_in_a_hit_cannons_blow_up_delay_and_not_after_it():
+    """Alien fire's enable is cleared with playerOK, when the delay runs out (029E): a
+    bomb ready at the hit starts within the delay's frames; after them none starts until
+    the next cannon's own fire delay has run."""
+    world = active_world()
+    world.alien_fire_timer = 0  # (fire on: the wave's first bomb is due)
+    world.kill_cannon()
+    fired = []
+    step_until(world, lambda r: fired.append(Event.BOMB_FIRED in r.events)
+               or world.cannon.state is CannonState.ACTIVE, limit=400)
+    swap = DEFAULT_CONFIG.timing.cannon_death_swap
+    assert any(fired[:swap]) and not any(fired[swap:])
+
+
+def test_an_invasion_while_a_hit_cannon_blows_up_ends_the_game_after_its_death():
+    """The rack marching through the blow-up delay may land (1971): the death goes on as
+    it was (16E6 only flags the player shot again) and the game is over at its end, the
+    ship not taken."""
+    world = active_world()
+    _quiet(world)
+    world.kill_cannon()
+    rack = world.rack
+    row = rack.next_index() // G.cols
+    rack.ref_top = G.invasion_top + G.cell * row  # the next draw lands in the cannon's rows
+    reports = [world.step(0) for _ in range(DEFAULT_CONFIG.timing.cannon_death)]
+    invasions = [r.tick for r in reports if Event.INVASION in r.events]
+    assert invasions == [reports[0].tick]  # (once, though the aliens drawn after it land)
+    assert [r.tick for r in reports if Event.CANNON_HIT in r.events] == [reports[0].tick]
+    assert Event.GAME_OVER in reports[-1].events and world.phase is Phase.GAME_OVER
+    assert world.ships == 3
+
+
 def test_alien_fire_goes_on_during_an_aliens_explosion():
     world = World(seed=3)
     pilot = Autopilot(3)

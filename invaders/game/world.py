@@ -295,18 +295,22 @@ class World:
     def _move(self, actions: int, fire_pressed: bool) -> None:
         self._move_shot()
         self._move_cannon(actions, fire_pressed)
-        # The rack marches while the cannon plays, and during its wait at a wave's start;
-        # the wait after a cannon's death freezes it, and a kill holds it (`kill_alien`).
+        # The rack marches while the cannon plays, during its wait at a wave's start and
+        # while a hit cannon's blow-up delay runs (`blowing_up`); the rest of its death and
+        # the wait after it freeze the rack, and a kill holds it (`kill_alien`).
         cannon_state = self.cannon.state
         marching = cannon_state is ACTIVE or (
-            cannon_state is WAITING and not self.respawning)
+            cannon_state is WAITING and not self.respawning) or self.blowing_up
         if not self.rack.spend_held() and marching:
             alien = self.rack.step(self.store)
             if alien is not None and alien.top >= self.config.geometry.invasion_top:
-                # The cannon is blown up first, then the game is over (1971 -> 16E6).
-                self.events.append(Event.INVASION)
-                self.invaded = True
-                self.kill_cannon()
+                # The cannon is blown up first, then the game is over (1971 -> 16E6); one
+                # blowing up already goes on as it was, and the game ends after it.
+                if not self.invaded:
+                    self.events.append(Event.INVASION)
+                    self.invaded = True
+                if cannon_state is not EXPLODING:
+                    self.kill_cannon()
                 return
         self._projectile_turn()
         saucer.count_down(self.saucer, self.config, self.rack.ref_top)
@@ -334,6 +338,8 @@ class World:
             return
         if cannon.state is EXPLODING:
             cannon.timer -= 1
+            if not self.blowing_up and self.alien_fire_timer != -1:
+                self.alien_fire_timer = -1  # the delay ran out: alien fire stops (029E)
             if cannon.timer <= 0:
                 if not self.invaded:  # the rack landed: no ship is lost, the game is over
                     self.ships -= 1
@@ -542,8 +548,20 @@ class World:
         self.store.remove(cannon)
         cannon.state = EXPLODING
         cannon.timer = self.config.timing.cannon_death
-        self.alien_fire_timer = -1
         self.events.append(Event.CANNON_HIT)
+
+    @property
+    def blowing_up(self) -> bool:
+        """A hit cannon's blow-up delay runs: the frames after the hit up to its first
+        debris. The ROM's player object counts the delay (5) down once a frame and only
+        when it runs out sets playerOK and alien fire's enable to 0 (0296-02A3), so the
+        rack marches on through them (its cursor stops on playerOK, 0141) and bombs are
+        fired as before (the ROM clears the enable in the second half of the last frame,
+        a half our tick does not make)."""
+        cannon = self.cannon
+        timing = self.config.timing
+        return cannon.state is EXPLODING and (
+            cannon.timer >= timing.cannon_death - timing.cannon_death_swap)
 
     def hit_saucer(self) -> None:
         state = self.saucer
