@@ -167,6 +167,25 @@ def test_an_invasion_ends_the_game_with_ships_left():
     assert world.ships == 3 and Event.SHIP_LOST not in over.events
 
 
+def test_the_bombs_move_on_the_tick_the_rack_lands():
+    """The cursor that finds an alien in the cannon's rows is the mid-screen interrupt's
+    last task (00AB -> 1971); the next interrupt runs the bombs' objects as in any frame:
+    the bomb whose turn the tick is steps on it."""
+    world = active_world()
+    _quiet(world)
+    for x, slot in zip((40, 100, 160), world.slots, strict=True):
+        slot.bomb = Bomb(world.store.new_id(), slot.btype, x, 60)
+        world.store.add(slot.bomb)
+    before = [slot.bomb.y for slot in world.slots]
+    rack = world.rack
+    rack.ref_top = G.invasion_top + G.cell * (rack.next_index() // G.cols)
+    turn = world.tick % 3
+    report = world.step(0)
+    assert Event.INVASION in report.events
+    moved = [slot.bomb.y - y for slot, y in zip(world.slots, before, strict=True)]
+    assert [m > 0 for m in moved] == [i == turn for i in range(3)]
+
+
 def test_the_cannon_moves_one_pixel_a_tick_within_its_limits():
     world = active_world()
     _quiet(world)

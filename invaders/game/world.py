@@ -305,13 +305,14 @@ class World:
             alien = self.rack.step(self.store)
             if alien is not None and alien.top >= self.config.geometry.invasion_top:
                 # The cannon is blown up first, then the game is over (1971 -> 16E6); one
-                # blowing up already goes on as it was, and the game ends after it.
+                # blowing up already goes on as it was, and the game ends after it. The
+                # frame plays on: the cursor was the mid-screen interrupt's last task, and
+                # the bombs' objects run in the next interrupt as in any frame.
                 if not self.invaded:
                     self.events.append(Event.INVASION)
                     self.invaded = True
                 if cannon_state is not EXPLODING:
                     self.kill_cannon()
-                return
         self._projectile_turn()
         saucer.count_down(self.saucer, self.config, self.rack.ref_top)
 
