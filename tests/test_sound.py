@@ -12,6 +12,7 @@ import pygame
 import pytest
 
 from invaders.app.sound import RATE, SoundBoard, synthesize
+from invaders.game.config import DEFAULT_CONFIG
 from invaders.game.events import Event
 from invaders.game.world import World
 
@@ -80,6 +81,28 @@ def test_the_march_runs_on_through_an_aliens_explosion():
     played = _note_ticks(world, board, 60, kill_then_watch)
     assert played[0] == first + 52
     assert dict(exploding)[first + 51]  # the tick of that note began with the rack held
+
+
+def test_the_march_runs_on_through_a_hit_cannons_blow_up_delay_then_waits_for_the_next():
+    """The original's fleet counter waits on playerOK (1747), as the rack's cursor does: a
+    note due in the 5 frames after a hit comes on time; the counter then stands still
+    through the rest of the death and the wait after it, so the next note comes that many
+    frames late."""
+    timing = DEFAULT_CONFIG.timing
+    board = SoundBoard(muted=True)
+    world = World(seed=0)
+    first = _note_ticks(world, board, 200)[-1]  # a note, then 52 frames to the next
+    kill_at = first + 52 - 3  # (before that tick: a hit in the tick before it)
+
+    def kill(w: World) -> None:
+        if w.tick == kill_at:
+            w.kill_cannon()
+
+    played = _note_ticks(world, board, 400, kill)
+    # (the death's frames after the delay, then the wait's but its last: the new cannon
+    # plays on that one)
+    stood_still = timing.cannon_death - timing.cannon_death_swap + timing.cannon_wait - 1
+    assert played[:2] == [first + 52, first + 52 + 52 + stood_still]
 
 
 def test_without_an_audio_device_the_game_runs_silent(monkeypatch):

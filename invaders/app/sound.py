@@ -14,7 +14,6 @@ from __future__ import annotations
 import numpy as np
 import pygame
 
-from invaders.game.entities import CannonState
 from invaders.game.events import Event
 from invaders.game.world import Phase
 from invaders.quiet import c_stderr_quiet
@@ -50,11 +49,11 @@ def _fade(wave: np.ndarray, power: float = 1.0) -> np.ndarray:
 
 
 def _marching(world) -> bool:
-    """Whether the fleet sounds: a wave in play with aliens left and the cannon not blowing
-    up. UNCERTAIN: our notes do not say whether the original's counter also runs while the
-    cannon explodes (the rack stands still then); here it waits, as the rack does."""
-    return (world.phase is Phase.PLAYING and world.rack.live > 0
-            and world.cannon.state is not CannonState.EXPLODING)
+    """Whether the fleet's counter runs: a wave in play with aliens left while the player
+    is OK, as the rack marches (the original's counter waits on playerOK, 1747: it runs
+    on through a hit cannon's blow-up delay, and not after it nor through the wait that
+    follows). An alien's explosion holds the rack, not the sound."""
+    return world.phase is Phase.PLAYING and world.rack.live > 0 and world.player_ok
 
 
 def synthesize() -> dict[str, np.ndarray]:

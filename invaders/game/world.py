@@ -295,13 +295,10 @@ class World:
     def _move(self, actions: int, fire_pressed: bool) -> None:
         self._move_shot()
         self._move_cannon(actions, fire_pressed)
-        # The rack marches while the cannon plays, during its wait at a wave's start and
-        # while a hit cannon's blow-up delay runs (`blowing_up`); the rest of its death and
-        # the wait after it freeze the rack, and a kill holds it (`kill_alien`).
+        # The rack marches while the player is OK (`player_ok`); a kill holds it
+        # (`kill_alien`).
         cannon_state = self.cannon.state
-        marching = cannon_state is ACTIVE or (
-            cannon_state is WAITING and not self.respawning) or self.blowing_up
-        if not self.rack.spend_held() and marching:
+        if not self.rack.spend_held() and self.player_ok:
             alien = self.rack.step(self.store)
             if alien is not None and alien.top >= self.config.geometry.invasion_top:
                 # The cannon is blown up first, then the game is over (1971 -> 16E6); one
@@ -550,6 +547,17 @@ class World:
         cannon.state = EXPLODING
         cannon.timer = self.config.timing.cannon_death
         self.events.append(Event.CANNON_HIT)
+
+    @property
+    def player_ok(self) -> bool:
+        """The ROM's playerOK (2068), which the rack's cursor (0141) and the fleet's sound
+        (1747) wait on: set while the cannon plays (its object sets it, 033B) and through
+        its wait at a wave's start; cleared when a hit cannon's blow-up delay runs out
+        (029B) until the next cannon plays, so through the rest of its death and the wait
+        after it."""
+        state = self.cannon.state
+        return state is ACTIVE or (state is WAITING and not self.respawning) or (
+            self.blowing_up)
 
     @property
     def blowing_up(self) -> bool:
