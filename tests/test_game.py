@@ -691,6 +691,54 @@ def test_bombs_start_in_a_hit_cannons_blow_up_delay_and_not_after_it():
     assert any(fired[:swap]) and not any(fired[swap:])
 
 
+def test_a_bomb_bursts_on_the_blowing_up_cannons_debris_and_sets_its_next_picture_again():
+    """The original's bombs meet what is lit in the cannon's rows (05FB-0612): one falling
+    on the debris bursts there, flagging the player struck again without a second death
+    (the sprite number the debris toggles zeroed, 060F: the next change shows @1C80 again),
+    and the death ends on time, one ship taken."""
+    timing = DEFAULT_CONFIG.timing
+    world = active_world()
+    _quiet(world)
+    world.kill_cannon()
+    cannon, ships = world.cannon, world.ships
+    for _ in range(timing.cannon_death_swap):  # the first change: @1C80
+        world.step(0)
+    assert (cannon.debris, cannon.next_debris) == (1, 0) and cannon.alive
+    slot = world.slots[BombType.ROLLING]
+    slot.bomb = bomb = Bomb(world.store.new_id(), BombType.ROLLING, cannon.x + 6,
+                            cannon.y - 8)
+    world.store.add(bomb)
+    met = step_until(world, lambda r: not bomb.alive, limit=timing.cannon_death_swap - 1)
+    (contact,) = met.contacts
+    assert {contact.a_kind, contact.b_kind} == {Kind.CANNON, Kind.BOMB}
+    assert Event.BOMB_BURST in met.events and Event.CANNON_HIT not in met.events
+    assert slot.burst > 0 and cannon.state is CannonState.EXPLODING
+    assert cannon.next_debris == 1
+    elapsed = timing.cannon_death - cannon.timer
+    for _ in range(timing.cannon_death_swap - elapsed % timing.cannon_death_swap):
+        world.step(0)  # to the next change
+    assert cannon.debris == 1  # @1C80 again, not @1C70
+    lost = step_until(world, lambda r: Event.SHIP_LOST in r.events, limit=timing.cannon_death)
+    assert world.ships == ships - 1 and not cannon.alive
+    assert lost.tick - met.tick < timing.cannon_death
+
+
+def test_a_bomb_falls_through_the_place_of_a_cannon_whose_death_has_ended():
+    """The debris is erased at the death's end (02B3): the wait's empty place meets nothing,
+    and a bomb falls through it to the ground."""
+    world = active_world()
+    _quiet(world)
+    world.kill_cannon()
+    step_until(world, lambda r: Event.SHIP_LOST in r.events, limit=100)
+    x, y = world.cannon.x, world.cannon.y
+    slot = world.slots[BombType.ROLLING]
+    slot.bomb = bomb = Bomb(world.store.new_id(), BombType.ROLLING, x + 6, y - 8)
+    world.store.add(bomb)
+    ground = step_until(world, lambda r: not bomb.alive, limit=60)
+    (contact,) = ground.contacts
+    assert {contact.a_kind, contact.b_kind} == {Kind.BOMB, Kind.GROUND}
+
+
 def test_an_invasion_while_a_hit_cannon_blows_up_ends_the_game_after_its_death():
     """The rack marching through the blow-up delay may land (1971): the death goes on as
     it was (16E6 only flags the player shot again) and the game is over at its end, the
@@ -833,7 +881,9 @@ def test_an_idle_plunger_fires_once_more_with_one_alien_left_then_is_switched_of
     world.alien_fire_timer = 0
     fired = world.step(0)
     assert Event.BOMB_FIRED in fired.events and plunger.bomb is not None and not plunger.off
-    world.remove_bomb(plunger.bomb)  # it ends (on the cannon) with one alien left
+    bomb = plunger.bomb
+    world.burst_bomb(bomb, bomb.x, bomb.y)  # it ends (on the cannon, say) with one alien left
+    step_until(world, lambda r: plunger.burst == 0, limit=60)
     assert plunger.off
     for _ in range(600):
         report = world.step(0)

@@ -188,14 +188,15 @@ def test_a_kept_line_of_text_lights_exactly_its_glyphs_pixels_first_time_and_aga
 
 def test_the_hit_cannon_is_held_for_five_frames_then_shows_the_1c80_debris_first():
     from invaders.game.config import DEFAULT_CONFIG
-    from invaders.lab.picture import death_picture
+    from invaders.lab.picture import cannon_picture
 
     timing = DEFAULT_CONFIG.timing
     world = active_world()
     world.kill_cannon()
     shown = []
     for _ in range(timing.cannon_death):
-        shown.append(death_picture(world.cannon.timer, timing))
+        shown.append(cannon_picture(world.cannon))
+        assert world.cannon.mask is art.mask_of(shown[-1])  # (what bombs meet: the drawn)
         world.step(0)
     cannon, c70, c80 = art.CANNON, art.CANNON_DEATH[0], art.CANNON_DEATH[1]
     assert shown[:5] == [cannon] * 5

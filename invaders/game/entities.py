@@ -55,16 +55,27 @@ class CannonState(IntEnum):
     EXPLODING = 2
 
 
+CANNON_MASK = art.mask_of(art.CANNON)
+DEBRIS_MASKS = tuple(art.mask_of(picture) for picture in art.CANNON_DEATH)
+
+
 @mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class Cannon(Body):
-    """The player's base. Collidable only while ACTIVE."""
+    """The player's base. Collidable while ACTIVE and while EXPLODING, with the picture
+    drawn (the original's bombs meet whatever is lit in the cannon's rows, its debris
+    too: 05FB-0612): the cannon's own, held through the blow-up delay, then the debris
+    picture `debris` (-1 before the first). `next_debris` is the one the next change
+    shows: @1C80 (1) after a hit, which a bomb meeting the debris sets again (the ROM
+    zeroes the sprite number it toggles, 060F, 039B)."""
 
-    __slots__ = ("state", "timer")
+    __slots__ = ("debris", "next_debris", "state", "timer")
 
     def __init__(self, body_id: int, x: int, top: int) -> None:
-        super().__init__(body_id, Kind.CANNON, x, top, art.mask_of(art.CANNON))
+        super().__init__(body_id, Kind.CANNON, x, top, CANNON_MASK)
         self.state = CannonState.WAITING
         self.timer = 0
+        self.debris = -1
+        self.next_debris = 1
 
 
 @mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)

@@ -18,6 +18,7 @@ from invaders.engine.predicates import solid_mask
 from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
 from invaders.engine.stats import Contact
 from invaders.game.config import SCREEN_W, GameConfig
+from invaders.game.entities import CannonState
 from invaders.game.events import Event
 from invaders.game.kinds import Kind
 
@@ -32,8 +33,8 @@ class Outcomes(Protocol):
     def erode(self, mask: pygame.mask.Mask, x: int, y: int) -> None: ...
     def burst_shot(self, x: int, top: int) -> None: ...
     def burst_bomb(self, bomb: Any, x: int, y: int) -> None: ...
-    def remove_bomb(self, bomb: Any) -> None: ...
     def kill_cannon(self) -> None: ...
+    def hit_debris(self) -> None: ...
     def hit_saucer(self) -> None: ...
     def bomb_hits_ground(self, bomb: Any) -> None: ...
 
@@ -69,8 +70,14 @@ def shot_bomb(world: Outcomes, shot: Any, bomb: Any, contact: Contact) -> None:
 
 
 def cannon_bomb(world: Outcomes, cannon: Any, bomb: Any, contact: Contact) -> None:
-    world.remove_bomb(bomb)
-    world.kill_cannon()
+    """A bomb that meets the cannon's lit pixels in its rows flags the player struck and
+    bursts there (0600-0617): a cannon in play is killed; one blowing up already (its
+    picture held, or its debris) blows up on, its debris' next picture set again."""
+    if cannon.state is CannonState.EXPLODING:
+        world.hit_debris()
+    else:
+        world.kill_cannon()
+    world.burst_bomb(bomb, *_pos(contact, bomb.id))
 
 
 def bomb_bunker(world: Outcomes, bomb: Any, bunker: Any, contact: Contact) -> None:
@@ -113,7 +120,8 @@ def make_rules(config: GameConfig) -> RuleTable:
         PairRule(Kind.SHOT, Kind.BOMB, B, M, S, None, True, True, shot_bomb,
                  "shot and bomb close at up to 9 px a tick: discrete tests would let them pass"),
         PairRule(Kind.CANNON, Kind.BOMB, M, M, S, None, True, True, cannon_bomb,
-                 "bombs kill the cannon; a bomb's 1-px side columns step 4-5 px"),
+                 "bombs kill the cannon and burst on it, on its debris too; a bomb's 1-px "
+                 "side columns step 4-5 px"),
         PairRule(Kind.BOMB, Kind.BUNKER, M, M, L, None, True, False, bomb_bunker,
                  "the original moves a bomb, draws it, then tests where it landed (05E5-05FF): "
                  "a bomb may jump a thin remnant, and its crater is where it was drawn"),

@@ -17,7 +17,7 @@ from invaders.engine.proofs import Move, cheapest
 from invaders.engine.rules import RuleTable
 from invaders.game import art
 from invaders.game.config import DEFAULT_CONFIG, SCREEN_W, GameConfig
-from invaders.game.entities import ALIEN_MASKS, BOMB_MASKS
+from invaders.game.entities import ALIEN_MASKS, BOMB_MASKS, CANNON_MASK, DEBRIS_MASKS
 from invaders.game.kinds import EDGES, Kind
 from invaders.game.rules import make_rules
 
@@ -48,7 +48,7 @@ def kind_masks() -> dict[int, list[pygame.mask.Mask]]:
         Kind.BOMB: [m for masks in BOMB_MASKS.values() for m in masks],
         Kind.ALIEN: [m for masks in ALIEN_MASKS for m in masks],
         Kind.SAUCER: [art.mask_of(art.SAUCER)],
-        Kind.CANNON: [art.mask_of(art.CANNON)],
+        Kind.CANNON: [CANNON_MASK, *DEBRIS_MASKS],  # (its debris meets bombs too)
     }
 
 

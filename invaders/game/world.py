@@ -31,6 +31,8 @@ from invaders.game import art, bombs, saucer, statehash
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG, GameConfig
 from invaders.game.entities import (
+    CANNON_MASK,
+    DEBRIS_MASKS,
     Alien,
     Blast,
     Bomb,
@@ -335,9 +337,7 @@ class World:
                 self.alien_fire_timer = self.config.timing.alien_fire_delay
             return
         if cannon.state is EXPLODING:
-            cannon.timer -= 1
-            if not self.blowing_up and self.alien_fire_timer != -1:
-                self.alien_fire_timer = -1  # the delay ran out: alien fire stops (029E)
+            self._blow_up()
             if cannon.timer <= 0:
                 if not self.invaded:  # the rack landed: no ship is lost, the game is over
                     self.ships -= 1
@@ -510,13 +510,6 @@ class World:
         bombs.start_burst(slot, *corner, self.config.timing.bomb_burst_steps)
         self.events.append(Event.BOMB_BURST)
 
-    def remove_bomb(self, bomb: Bomb) -> None:
-        """A bomb that hit the cannon just goes (the cannon's explosion is the picture)."""
-        self.store.remove(bomb)
-        slot = self.slots[bomb.btype]
-        bombs.finish(slot)
-        self._bomb_done(slot)
-
     def _bomb_done(self, slot: bombs.BombSlot) -> None:
         """A bomb's object is set afresh: a plunger's that finishes with one alien left is
         switched off for the rest of the wave (04FC-0505), so an idle plunger may still fire
@@ -542,11 +535,35 @@ class World:
         self.events.append(Event.ALIEN_KILLED)
 
     def kill_cannon(self) -> None:
+        """The cannon is hit: it blows up where it stands, its picture held through the
+        blow-up delay, then its debris (`_blow_up`); it stays in the store till then."""
         cannon = self.cannon
-        self.store.remove(cannon)
+        if not cannon.alive:  # (a rack landing in the wait at a wave's start)
+            self.store.add(cannon)
         cannon.state = EXPLODING
         cannon.timer = self.config.timing.cannon_death
+        cannon.next_debris = 1
         self.events.append(Event.CANNON_HIT)
+
+    def hit_debris(self) -> None:
+        """A bomb met the blowing-up cannon: the ROM flags the player struck again (060F),
+        zeroing the sprite number its debris toggles, so the next change shows @1C80."""
+        self.cannon.next_debris = 1
+
+    def _blow_up(self) -> None:
+        """A tick of the cannon's death (0296-02B3): the blow-up delay ending stops alien
+        fire (029E); every `cannon_death_swap` ticks the next debris picture is drawn, and
+        at the end the cannon leaves the store, its own picture back for the next one."""
+        cannon, timing, store = self.cannon, self.config.timing, self.store
+        cannon.timer -= 1
+        if not self.blowing_up and self.alien_fire_timer != -1:
+            self.alien_fire_timer = -1  # the delay ran out: alien fire stops (029E)
+        if cannon.timer <= 0:
+            store.remove(cannon)
+            cannon.mask, cannon.debris = CANNON_MASK, -1  # (out of the store: no reshape)
+        elif (timing.cannon_death - cannon.timer) % timing.cannon_death_swap == 0:
+            cannon.debris, cannon.next_debris = cannon.next_debris, 1 - cannon.next_debris
+            store.reshape(cannon, DEBRIS_MASKS[cannon.debris])
 
     @property
     def player_ok(self) -> bool:
@@ -656,7 +673,7 @@ class World:
         self.phase = GAME_OVER
         self.phase_timer = self.config.timing.game_over_pause
         self.hi_score = max(self.hi_score, self.score)
-        self.remove_shot()  # (the cannon is out of the store already: blown up)
+        self.remove_shot()  # (the cannon is out of the store already: its death ended)
         for slot in self.slots:
             if slot.bomb is not None:
                 self.store.remove(slot.bomb)
@@ -682,7 +699,10 @@ class World:
                            for a in rack.aliens))
                     # (held only when it is: a state with none hashes as it did before)
                     + ((rack.held,) if rack.held else ()),
-            "cannon": (int(cannon.state), cannon.timer, cannon.x, cannon.y),
+            "cannon": (int(cannon.state), cannon.timer, cannon.x, cannon.y)
+                      # (its debris only while it blows up: other states hash as before)
+                      + ((cannon.debris, cannon.next_debris) if cannon.state is EXPLODING
+                         else ()),
             "shot": None if shot is None else (shot.id, shot.x, shot.y),
             "bombs": tuple((int(s.btype), s.steps, s.burst, s.burst_x, s.burst_y,
                             s.table_index, s.skip_next, s.off,

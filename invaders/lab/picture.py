@@ -15,7 +15,7 @@ import pygame
 from invaders.engine.compiled import mypyc_attr
 from invaders.game import art
 from invaders.game.config import SCREEN_H, SCREEN_W
-from invaders.game.entities import BOMB_PICTURES, CannonState
+from invaders.game.entities import BOMB_PICTURES, Cannon, CannonState
 from invaders.game.players import PROMPT
 from invaders.game.rack import pictures_apart
 from invaders.game.world import Phase, World
@@ -207,8 +207,7 @@ class Picture:
         if cannon.state is CannonState.ACTIVE:
             drawn.append((sprite(art.CANNON), (cannon.x, cannon.y)))
         elif cannon.state is CannonState.EXPLODING and cannon.timer > 0:  # debris then clears
-            drawn.append((sprite(death_picture(cannon.timer, world.config.timing)),
-                          (cannon.x, cannon.y)))
+            drawn.append((sprite(cannon_picture(cannon)), (cannon.x, cannon.y)))
         if world.shot is not None:
             drawn.append((sprite(art.SHOT), _lerp(world.shot, world.tick, alpha)))
         for slot in world.slots:
@@ -228,15 +227,10 @@ class Picture:
         self.screen.fblits(drawn)
 
 
-def death_picture(timer: int, timing) -> art.Art:
-    """The hit cannon: held as it was for one swap's frames, then the two debris pictures
-    in turn, @1C80 first (0296-03A5: the blow-up delay runs out before the first picture,
-    which toggles the sprite's number from 0 to 1)."""
-    elapsed = timing.cannon_death - timer
-    if elapsed < timing.cannon_death_swap:
-        return art.CANNON
-    turn = (elapsed - timing.cannon_death_swap) // timing.cannon_death_swap
-    return art.CANNON_DEATH[1 - turn % 2]
+def cannon_picture(cannon: Cannon) -> art.Art:
+    """The hit cannon's picture: its own, held through the blow-up delay, then the debris
+    it shows (`Cannon.debris`), @1C80 first (0296-03A5)."""
+    return art.CANNON if cannon.debris < 0 else art.CANNON_DEATH[cannon.debris]
 
 
 GAME_OVER_LETTER = 6  # frames a letter of GAME OVER takes to type (0A93)
