@@ -723,6 +723,19 @@ def test_a_bomb_bursts_on_the_blowing_up_cannons_debris_and_sets_its_next_pictur
     assert lost.tick - met.tick < timing.cannon_death
 
 
+def test_a_cannon_hit_in_its_wait_at_a_waves_start_blows_up_in_the_store_and_leaves_it():
+    """Not in the game's own config (the rack lands 11 drops down, long after the wait),
+    but a config may start it lower: the waiting cannon, never added, blows up as a body
+    of the store and leaves it when its death ends."""
+    world = World(seed=0)
+    cannon = world.cannon
+    assert cannon.state is CannonState.WAITING and cannon.id not in world.store.by_id
+    world.kill_cannon()
+    assert world.store.by_id[cannon.id] is cannon
+    step_until(world, lambda r: Event.SHIP_LOST in r.events, limit=100)
+    assert cannon.id not in world.store.by_id and cannon.state is CannonState.WAITING
+
+
 def test_a_bomb_falls_through_the_place_of_a_cannon_whose_death_has_ended():
     """The debris is erased at the death's end (02B3): the wait's empty place meets nothing,
     and a bomb falls through it to the ground."""

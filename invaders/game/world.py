@@ -538,7 +538,7 @@ class World:
         """The cannon is hit: it blows up where it stands, its picture held through the
         blow-up delay, then its debris (`_blow_up`); it stays in the store till then."""
         cannon = self.cannon
-        if not cannon.alive:  # (a rack landing in the wait at a wave's start)
+        if self.store.by_id.get(cannon.id) is not cannon:  # (a landing in a wave's wait)
             self.store.add(cannon)
         cannon.state = EXPLODING
         cannon.timer = self.config.timing.cannon_death
