@@ -32,16 +32,17 @@ import invaders.env  # noqa: F401  (registers the id)
 from invaders.app.cli import main
 from invaders.app.render import Renderer
 from invaders.atomic import write_new
+from invaders.engine.stats import STAT_FIELDS
 from invaders.env.games import EVENTS_KEPT
 from invaders.env.observations import STATE_FIELDS, STATE_SIZE
 from invaders.env.space_invaders import MINIMAL_ACTIONS, SpaceInvadersEnv
 from invaders.env.vector import SpaceInvadersVectorEnv
 from invaders.game.actions import Action
-from invaders.game.config import SCREEN_H, SCREEN_W
+from invaders.game.config import DEFAULT_CONFIG, SCREEN_H, SCREEN_W
 from invaders.game.entities import CannonState
 from invaders.game.events import Event
 from invaders.game.replay import load
-from invaders.game.world import Phase
+from invaders.game.world import Phase, World
 from invaders.lab.autopilot import Autopilot
 from tests.helpers import infos_alike, vector_answers_alike
 
@@ -237,6 +238,25 @@ def test_rewards_add_up_to_the_score_and_the_episode_ends_at_game_over(agent):
         assert (reward, terminated, truncated, info["events"]) == (0.0, True, False, ())
         assert env.world.tick == info["episode_frame_number"] == over_at
         assert set(info["collisions"].values()) == {0}
+
+
+def test_info_sums_the_steps_frames_counters_and_lists_their_events_in_order():
+    """Checked against a world of the same seed stepped frame by frame beside the env (no
+    sticky actions: each frame's input is the action's)."""
+    env = SpaceInvadersEnv(obs_type="state", repeat_action_probability=0.0, frameskip=3)
+    _, info = env.reset(seed=8)
+    twin, draws, busy = World(info["seed"], DEFAULT_CONFIG), random.Random(8), 0
+    for _ in range(600):
+        action = draws.randrange(len(MINIMAL_ACTIONS))
+        reports = [twin.step(MINIMAL_ACTIONS[action]) for _ in range(3)]
+        info = env.step(action)[4]
+        summed = {field: sum(getattr(report.stats, field) for report in reports)
+                  for field in STAT_FIELDS}
+        assert info["collisions"] == summed
+        assert info["events"] == tuple(event.name for report in reports
+                                       for event in report.events)
+        busy += len({report.stats for report in reports}) > 1 and len(info["events"]) > 1
+    assert busy > 10  # (steps whose frames differ and have several events between them)
 
 
 def test_sticky_actions_repeat_the_last_frames_input_with_ales_probability(tmp_path):
