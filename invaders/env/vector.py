@@ -220,6 +220,7 @@ class SpaceInvadersVectorEnv(VectorEnv):
         each with Gymnasium's mask of who has it (every game, or those `present`: the
         others' numbers 0 and events None, as Gymnasium fills what a game did not give)."""
         numbers = self._rows.numbers.T.copy()  # (the caller's)
+        everyone = present is None
         if present is None:
             present = np.ones(self.num_envs, np.bool_)
         else:
@@ -229,7 +230,8 @@ class SpaceInvadersVectorEnv(VectorEnv):
         for key in ALE_NUMBERS:
             infos[key], infos[f"_{key}"] = columns[key], present
         events = self._events(columns["events"].tolist())
-        events[~present] = None
+        if not everyone:
+            events[~present] = None
         infos["events"], infos["_events"] = events, present
         collisions: dict[str, Any] = {}
         for key in STAT_FIELDS:
@@ -241,15 +243,17 @@ class SpaceInvadersVectorEnv(VectorEnv):
     def _events(self, counts: list[int]) -> np.ndarray:
         """Each game's step's events by name (given how many), from its row of codes (most
         have none) or spilled."""
-        events = np.empty(self.num_envs, object)
         rows, spilled = self._rows.events, self._games.spilled
+        names = []
         for i, count in enumerate(counts):
             if count:
                 codes = spilled[i] if count > EVENTS_KEPT else rows[i, :count].tolist()
-                events[i] = tuple(EVENT_NAMES[code] for code in codes)
+                names.append(tuple(EVENT_NAMES[code] for code in codes))
             else:
-                events[i] = ()
-        return events
+                names.append(())
+        # (an array of the tuples themselves: made from a list, numpy would read them as
+        # rows of names)
+        return np.fromiter(names, object, len(names))
 
 
 def _reset_mask(options: dict[str, Any] | None, games: int) -> np.ndarray | None:
