@@ -369,7 +369,7 @@ class SpaceInvadersEnv(gym.Env):
         """ALE's fields, the step's events by name and its collision counters summed."""
         world = self.world
         assert world is not None
-        return {"lives": world.ships, "episode_frame_number": self._episode_frames,
+        return {"lives": self.lives, "episode_frame_number": self._episode_frames,
                 "frame_number": self.frame_number,
                 "events": tuple([event.name for event in step_events(reports)]),
                 "collisions": dict(zip(STAT_FIELDS, step_counters(reports), strict=True)),
