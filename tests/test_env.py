@@ -703,7 +703,9 @@ def test_the_batchs_workers_close_their_games_when_the_caller_is_killed(tmp_path
     assert main(["replay", str(folder)]) == 0
 
 
-def test_only_a_child_process_without_its_own_handler_is_ended_by_sigterm_gently(tmp_path):
+@pytest.mark.forks
+def test_only_a_child_process_without_its_own_handler_is_ended_by_sigterm_gently(tmp_path,
+                                                                             alone):
     """An environment that records makes SIGTERM raise SystemExit only in a child process
     (as Gymnasium's async vector's workers are) whose SIGTERM was the default: the main
     process's signals are its program's, and a child's own handler is kept."""
@@ -740,7 +742,8 @@ def test_an_environment_dropped_unclosed_writes_its_episode_and_so_does_its_copy
 
 
 @pytest.mark.skipif(not hasattr(os, "fork"), reason="a fork is what this is about")
-def test_a_forked_process_never_writes_its_parents_episode(tmp_path):
+@pytest.mark.forks
+def test_a_forked_process_never_writes_its_parents_episode(tmp_path, alone):
     """A process forked (as multiprocessing's workers are, on Linux) has a copy of the
     parent's finalizers: an environment left for the garbage collector (in a cycle, as
     reading `env.unwrapped.ale` makes one) and collected in the child writes nothing
@@ -1533,7 +1536,8 @@ def test_the_native_vector_on_worker_processes_steps_as_in_one_process(options):
         apart.unwrapped.envs  # noqa: B018  (the games are not in this process)
 
 
-def test_a_workers_spill_of_any_size_arrives_without_a_wait(monkeypatch):
+@pytest.mark.forks
+def test_a_workers_spill_of_any_size_arrives_without_a_wait(monkeypatch, alone):
     """A worker sends its spilled events after its answer: a message larger than a pipe
     holds (here 300,000 events a game, as a step of millions of frames might have) would
     otherwise wait for a caller that waits for the answer. Forked workers have the
