@@ -804,6 +804,55 @@ def test_an_episode_cut_off_inside_a_tick_is_written_up_to_its_last_checkpoint(t
     assert main(["replay", str(tmp_path)]) == 0
 
 
+def _cut_off_once(recorder, name):
+    """Ctrl-C as the recorder's method `name` is called: raised instead, once."""
+    def interrupted(*args):
+        delattr(recorder, name)  # (the method itself from then on)
+        raise KeyboardInterrupt
+    setattr(recorder, name, interrupted)
+
+
+def test_a_reset_cut_off_before_its_recording_begins_is_recorded_all_the_same(tmp_path):
+    """Ctrl-C between a reset's new world and its recording begun, and the script plays
+    on: the episode before is written whole and the new one recorded from its start, where
+    the new world's ticks went into the old recording, whose file did not replay."""
+    env = SpaceInvadersEnv(obs_type="state", record=tmp_path)
+    env.reset(seed=5)
+    for _ in range(40):
+        env.step(1)
+    _cut_off_once(env._recorder, "begin")
+    with pytest.raises(KeyboardInterrupt):
+        env.reset(seed=6)
+    for _ in range(30):
+        env.step(2)
+    env.close()
+    files = sorted(tmp_path.glob("*.json"))
+    assert [load(f).ticks for f in files] == [160, 120]
+    assert main(["replay", str(tmp_path)]) == 0
+
+
+def test_a_restore_cut_off_before_its_recording_follows_keeps_the_episode_recorded(tmp_path):
+    """Ctrl-C between a restored world and its recording followed: the episode recorded
+    so far is written as it stood, and the restored world, past its start, plays on
+    unrecorded (its ticks noted in that recording made a file that did not replay)."""
+    env = SpaceInvadersEnv(obs_type="state", record=tmp_path)
+    env.reset(seed=5)
+    for _ in range(20):
+        env.step(1)
+    state = env.clone_state()
+    for _ in range(25):
+        env.step(4)
+    _cut_off_once(env._recorder, "follow")
+    with pytest.raises(KeyboardInterrupt):
+        env.restore_state(state)
+    for _ in range(10):
+        env.step(3)
+    env.close()
+    (path,) = tmp_path.glob("*.json")
+    assert load(path).ticks == 180
+    assert main(["replay", str(tmp_path)]) == 0
+
+
 def test_an_episode_past_a_replays_limits_is_recorded_up_to_them_with_a_warning(
         tmp_path, monkeypatch, capsys):
     """The input runs a replay may hold lowered to 30 (a million in the program, which an

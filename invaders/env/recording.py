@@ -97,6 +97,21 @@ class EpisodeRecorder:
             recording.folder = self.folder
         self.current = recording
 
+    def keep_to(self, world: World) -> None:
+        """Before a step of `world`: the recording in progress is of it. A reset or a
+        restore cut off (Ctrl-C) between the environment's new world and its recording may
+        leave them apart, or the world without one, and a tick of one noted in the other
+        would make a file that does not replay: the recording is then ended and written as
+        it stands, and a world at its start begins one of its own (a world restored past
+        its start, without its recording, plays unrecorded)."""
+        current = self.current
+        if current is not None and current.world is world:
+            return
+        if world.tick == 0:
+            self.begin(world)
+        elif current is not None:
+            self.save()
+
     def note(self, bits: int) -> None:
         """The tick just played, with these input bits."""
         if self.current is not None:  # (None: a state gone back to that was not recorded)

@@ -249,6 +249,8 @@ class SpaceInvadersEnv(gym.Env):
         # the given probability.
         draw, sticky = self._draws.random, self.repeat_action_probability
         recorder, reports = self._recorder, []
+        if recorder is not None:
+            recorder.keep_to(world)
         frames_left = self.frame_limit - self._episode_frames
         try:
             for _ in range(self._skip()):
