@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 
+import invaders
 from invaders.app.cli import main
 
 HEX = re.compile(r"^[0-9a-f]{32}$")
@@ -127,6 +128,26 @@ def test_bad_input_is_one_line_naming_the_problem_and_exit_2(capsys, args, probl
     assert len(err.strip().splitlines()) == 1
     assert problem in err
     assert "Traceback" not in err
+
+
+def test_bench_against_outside_a_checkout_or_a_name_of_no_commit_is_one_line(
+        capsys, monkeypatch, tmp_path):
+    """Where the tree has no git history (a release archive), or the name is of no commit,
+    --against says so in words, naming the tree or the name."""
+    tree = tmp_path / "tree"
+    monkeypatch.setattr(invaders, "__file__", str(tree / "invaders" / "__init__.py"))
+    words = ["bench", "--rounds", "3", "--ticks", "60", "--against"]
+    code, _, err = _run(capsys, *words, "HEAD")
+    assert code == 2
+    assert err.splitlines() == [
+        f"invaders: error: --against compares with the project's git history, and {tree} "
+        "is not in a git checkout (a release archive has none)"]
+    subprocess.run(["git", "init", "-q", str(tree)], check=True)
+    code, _, err = _run(capsys, *words, "no-such-revision")
+    assert code == 2
+    assert err.splitlines() == [
+        f"invaders: error: --against: 'no-such-revision' names no commit of the repository "
+        f"at {tree}"]
 
 
 @pytest.mark.parametrize("words", [["play"], [], ["--scale", "2"]])

@@ -68,7 +68,12 @@ def worktree(rev: str) -> Iterator[tuple[Path, str]]:
     """The revision checked out in a temporary worktree of this tree's repository, and its
     short name; removed afterwards."""
     here = Path(invaders.__file__).resolve().parents[1]
-    named = _git(here, "rev-parse", "--short", f"{rev}^{{commit}}")
+    if _answer(here, "rev-parse", "--is-inside-work-tree") is None:
+        raise AgainstError(f"--against compares with the project's git history, and {here} "
+                           "is not in a git checkout (a release archive has none)")
+    named = _answer(here, "rev-parse", "--verify", "--quiet", "--short", f"{rev}^{{commit}}")
+    if named is None:
+        raise AgainstError(f"--against: {rev!r} names no commit of the repository at {here}")
     with tempfile.TemporaryDirectory(prefix="invaders-against-") as folder:
         path = Path(folder) / "tree"
         _git(here, "worktree", "add", "--detach", "--quiet", str(path), named)
@@ -79,15 +84,26 @@ def worktree(rev: str) -> Iterator[tuple[Path, str]]:
 
 
 def _git(where: Path, *args: str) -> str:
-    try:
-        done = subprocess.run(["git", "-C", str(where), *args], capture_output=True,
-                              text=True, check=False)
-    except FileNotFoundError:
-        raise AgainstError("--against needs git") from None
+    """git's output; its last word as the error if it fails."""
+    done = _run_git(where, args)
     if done.returncode != 0:
         problem = (done.stderr.strip().splitlines() or ["git failed"])[-1]
         raise AgainstError(f"--against: {problem}")
     return done.stdout.strip()
+
+
+def _answer(where: Path, *args: str) -> str | None:
+    """git's output, or None where it has no answer (outside a checkout, no such name)."""
+    done = _run_git(where, args)
+    return done.stdout.strip() if done.returncode == 0 else None
+
+
+def _run_git(where: Path, args: tuple[str, ...]) -> subprocess.CompletedProcess[str]:
+    try:
+        return subprocess.run(["git", "-C", str(where), *args], capture_output=True,
+                              text=True, check=False)
+    except FileNotFoundError:
+        raise AgainstError("--against needs git") from None
 
 
 class Side:
