@@ -15,6 +15,8 @@ from pathlib import Path
 
 import pytest
 
+import invaders
+
 ROOT = Path(__file__).resolve().parents[1]
 # A working copy's own things, never a release's: its history, environments, builds, caches
 # and compiled extensions.
@@ -68,7 +70,8 @@ def test_the_wheel_holds_the_package_its_command_and_its_licence(release):
     assert {n for n in names if not n.startswith(info)} == package
     assert f"{info}/licenses/LICENSE" in names
     assert "invaders = invaders.__main__:run" in entry_points.splitlines()
-    assert "License-Expression: MIT" in metadata.splitlines()
+    assert {"License-Expression: MIT", f"Version: {invaders.__version__}"} <= set(
+        metadata.splitlines())
 
 
 def test_the_wheel_installed_alone_plays_a_replay_to_its_checkpoints(release, tmp_path):
