@@ -41,7 +41,10 @@ def atomic_writer(path: str | os.PathLike[str], mode: str = "w") -> Iterator[IO]
 
 
 def _usual_permissions(fd: int) -> None:
-    """mkstemp makes files private (0600); give them what a plain open() would."""
+    """mkstemp makes files private (0600); give them what a plain open() would (where
+    files have such modes: Windows before Python 3.13 has no os.fchmod)."""
+    if not hasattr(os, "fchmod"):
+        return
     umask = os.umask(0)
     os.umask(umask)
     os.fchmod(fd, (stat.S_IRUSR | stat.S_IWUSR | stat.S_IRGRP | stat.S_IWGRP | stat.S_IROTH

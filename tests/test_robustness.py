@@ -176,22 +176,28 @@ def signals_not_ignored():
         signal.signal(signum, handler)
 
 
-@pytest.mark.parametrize("signum, code, at", SIGNALS, ids=lambda v: str(v))
-def test_a_signal_stops_a_recording_run_on_a_whole_tick_and_saves_it(
-        tmp_path, capsys, monkeypatch, signum, code, at):
-    """The signal arrives while tick `at` is being played (the autopilot sends it, well into
-    the game and between two saves): that tick is finished, the run stops before the next,
-    and the recording holds exactly the ticks played, as a replay that checks."""
+def _autopilot_sends(monkeypatch, at: int, *signums: int) -> None:
+    """The autopilot sends these signals to this process while tick `at` is played."""
     from invaders.lab.autopilot import Autopilot
 
     plays = Autopilot.actions
 
     def actions(self, world):
         if world.tick == at:
-            os.kill(os.getpid(), signum)
+            for signum in signums:
+                os.kill(os.getpid(), signum)
         return plays(self, world)
 
     monkeypatch.setattr(Autopilot, "actions", actions)
+
+
+@pytest.mark.parametrize("signum, code, at", SIGNALS, ids=lambda v: str(v))
+def test_a_signal_stops_a_recording_run_on_a_whole_tick_and_saves_it(
+        tmp_path, capsys, monkeypatch, signum, code, at):
+    """The signal arrives while tick `at` is being played (the autopilot sends it, well into
+    the game and between two saves): that tick is finished, the run stops before the next,
+    and the recording holds exactly the ticks played, as a replay that checks."""
+    _autopilot_sends(monkeypatch, at, signum)
     path = tmp_path / "run.json"
     assert main(["run", "--autopilot", "--ticks", "100000000", "--record", str(path)]) == code
     name = signal.Signals(signum).name
@@ -441,17 +447,8 @@ def test_recording_to_a_file_keeps_no_more_memory_late_than_early(tmp_path):
 
 def test_two_signals_a_moment_apart_still_end_on_a_whole_tick_with_the_first_ones_code(
         tmp_path, capsys, monkeypatch):
-    from invaders.lab.autopilot import Autopilot
-
-    plays = Autopilot.actions
-
-    def actions(self, world):
-        if world.tick == 500:
-            os.kill(os.getpid(), signal.SIGTERM)
-            os.kill(os.getpid(), signal.SIGINT)  # (it once exited 130, "interrupted")
-        return plays(self, world)
-
-    monkeypatch.setattr(Autopilot, "actions", actions)
+    # (it once exited 130, "interrupted")
+    _autopilot_sends(monkeypatch, 500, signal.SIGTERM, signal.SIGINT)
     path = tmp_path / "run.json"
     assert main(["run", "--autopilot", "--ticks", "100000", "--record", str(path)]) == 143
     assert capsys.readouterr().err.splitlines() == [
@@ -461,16 +458,7 @@ def test_two_signals_a_moment_apart_still_end_on_a_whole_tick_with_the_first_one
 
 def test_a_signal_ignored_when_the_program_started_stays_ignored(capsys, monkeypatch):
     """As under nohup: SIGHUP ignored by whoever started us does not stop the run."""
-    from invaders.lab.autopilot import Autopilot
-
-    plays = Autopilot.actions
-
-    def actions(self, world):
-        if world.tick == 100:
-            os.kill(os.getpid(), signal.SIGHUP)
-        return plays(self, world)
-
-    monkeypatch.setattr(Autopilot, "actions", actions)
+    _autopilot_sends(monkeypatch, 100, signal.SIGHUP)
     previous = signal.signal(signal.SIGHUP, signal.SIG_IGN)
     try:
         assert main(["run", "--autopilot", "--ticks", "300"]) == 0
@@ -579,3 +567,18 @@ def test_an_error_inside_a_tick_of_a_recorded_window_game_saves_it_up_to_its_las
     assert "RuntimeError: a bug mid-tick" in capsys.readouterr().err
     replay = load(path)
     assert replay.ticks == cut[0] // 60 * 60 and run(replay)[0].mismatch is None
+
+
+def test_a_platform_without_sighup_or_fchmod_runs_records_and_stops_on_a_signal(
+        tmp_path, capsys, monkeypatch):
+    """Windows has no SIGHUP, and before Python 3.13 no os.fchmod: a run there still
+    records (its file written the same way, without modes to give) and Ctrl-C still stops
+    it on a whole tick (the two were read unguarded: the program could not start)."""
+    monkeypatch.delattr(signal, "SIGHUP")
+    monkeypatch.delattr(os, "fchmod")
+    _autopilot_sends(monkeypatch, 300, signal.SIGINT)
+    path = tmp_path / "run.json"
+    assert main(["run", "--autopilot", "--ticks", "100000", "--record", str(path)]) == 130
+    assert capsys.readouterr().err.splitlines() == [
+        f"invaders: stopped by SIGINT at tick 301; saved {path} (301 ticks)"]
+    assert run(load(path))[0].mismatch is None

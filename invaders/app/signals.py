@@ -1,11 +1,12 @@
 """Signals that stop a run or a game at a tick boundary, never inside one.
 
-While a `StopSignals` is active, SIGINT, SIGTERM and SIGHUP only note that a stop was asked;
-the loop looks at `received` between ticks and winds down, so a recording always ends on a
-whole tick. A signal that was ignored when the program started (SIGHUP under `nohup`) stays
-ignored. A second signal while winding down changes nothing (two sent a millisecond apart
-still end the run on a whole tick, with the first one's code); a third stops at once, as a
-plain Ctrl-C would, for a program that no longer reaches a tick's end.
+While a `StopSignals` is active, SIGINT, SIGTERM and SIGHUP (where there is one) only
+note that a stop was asked; the loop looks at `received` between ticks and winds down, so
+a recording always ends on a whole tick. A signal that was ignored when the program
+started (SIGHUP under `nohup`) stays ignored. A second signal while winding down changes
+nothing (two sent a millisecond apart still end the run on a whole tick, with the first
+one's code); a third stops at once, as a plain Ctrl-C would, for a program that no longer
+reaches a tick's end.
 """
 
 from __future__ import annotations
@@ -13,7 +14,8 @@ from __future__ import annotations
 import signal
 from types import FrameType, TracebackType
 
-SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+# The stop signals, by name: each where the platform has it (Windows has no SIGHUP).
+SIGNAL_NAMES = ("SIGINT", "SIGTERM", "SIGHUP")
 FORCE_AFTER = 3  # signals, counting the first, after which the program stops at once
 
 
@@ -24,7 +26,8 @@ class StopSignals:
         self._previous: dict[int, object] = {}
 
     def __enter__(self) -> StopSignals:
-        for signum in SIGNALS:
+        for signum in [getattr(signal, name) for name in SIGNAL_NAMES
+                       if hasattr(signal, name)]:
             if signal.getsignal(signum) is signal.SIG_IGN:
                 continue  # ignored by whoever started us (nohup): theirs to decide
             self._previous[signum] = signal.signal(signum, self._handle)
