@@ -4,10 +4,13 @@ memory in proportion to what it means, not to its size."""
 
 from __future__ import annotations
 
+import builtins
 import contextlib
 import itertools
 import json
 import re
+import resource
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from unittest import mock
@@ -17,6 +20,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from invaders.app.readbench import (
+    CHILD,
     counts_twice,
     escaped,
     longest_replay,
@@ -39,6 +43,8 @@ from invaders.game.replay import (
 from invaders.game.runs import Runs
 from invaders.game.world import World
 from invaders.lab.autopilot import Autopilot
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
@@ -719,6 +725,28 @@ def test_a_replay_at_the_size_limit_is_read_in_memory_in_proportion_to_its_meani
     assert MAX_FILE_BYTES - 2**20 < path.stat().st_size <= MAX_FILE_BYTES
     _, megabytes, read = read_in_fresh_process(path)
     assert read == ticks > 8_000_000 and megabytes < 100  # (the interpreter and imports: 34)
+
+
+@pytest.mark.parametrize("platform, per_megabyte", [("linux", 2**10), ("darwin", 2**20)])
+def test_without_proc_the_peak_is_getrusages_in_its_platforms_unit(
+        monkeypatch, capsys, platform, per_megabyte):
+    """Where there is no /proc (macOS), the reading process's peak is getrusage's, which
+    counts bytes on macOS and KiB elsewhere: either way the same megabytes."""
+    real_open = builtins.open
+
+    def no_proc(file, *args, **kwargs):
+        if str(file).startswith("/proc/"):
+            raise FileNotFoundError(file)
+        return real_open(file, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "open", no_proc)
+    monkeypatch.setattr(sys, "platform", platform)
+    monkeypatch.setattr(sys, "argv", ["-c", str(ROOT / "replays" / "saucer-300.json")])
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # (KiB: this is Linux)
+    exec(CHILD, {})
+    after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    _, megabytes, ticks = json.loads(capsys.readouterr().out)
+    assert ticks == 3600 and before <= megabytes * per_megabyte <= after
 
 
 def test_the_reading_bench_reads_the_valid_files_and_refuses_the_hostile_ones():

@@ -49,8 +49,9 @@ seconds = time.perf_counter() - start
 try:  # this process's own peak (ru_maxrss may hold the parent's from before the fork)
     with open("/proc/self/status") as status:
         peak = next(int(line.split()[1]) for line in status if line.startswith("VmHWM:"))
-except OSError:
+except OSError:  # (no /proc: the peak getrusage saw, in bytes on macOS, elsewhere in KiB)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    peak = peak / 1024 if sys.platform == "darwin" else peak
 print(json.dumps([seconds, peak / 1024, ticks]))
 """
 
