@@ -1074,6 +1074,19 @@ def test_gymnasiums_module_form_makes_it_in_a_process_that_never_imported_it():
     assert done.stdout.split() == [f"({STATE_SIZE},)", ENV_ID]
 
 
+def test_without_gymnasium_the_package_says_which_extra_brings_it():
+    import subprocess
+    import sys
+
+    code = 'import sys; sys.modules["gymnasium"] = None; import invaders.env'  # (not there)
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=False)
+    assert done.returncode == 1
+    assert done.stderr.splitlines()[-1] == (
+        "ModuleNotFoundError: invaders.env needs Gymnasium, the rl extra: pip install -e "
+        "'.[rl]'")
+
+
 def test_human_rendering_shows_each_step_in_a_window_three_times_the_size():
     """render_mode="human" (SDL's dummy driver here): after each step the window holds the
     RGB picture of the world, every pixel a 3x3 square."""

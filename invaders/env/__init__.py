@@ -5,7 +5,11 @@ from __future__ import annotations
 
 import warnings
 
-import gymnasium
+try:
+    import gymnasium
+except ModuleNotFoundError as missing:  # (every module here reads it: said once, here)
+    raise ModuleNotFoundError("invaders.env needs Gymnasium, the rl extra: pip install -e "
+                              "'.[rl]'", name=missing.name) from missing
 
 from invaders.engine.compiled import shadowed_note
 from invaders.env.space_invaders import SpaceInvadersEnv
