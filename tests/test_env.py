@@ -982,6 +982,23 @@ def test_bad_options_are_refused_in_one_line():
         SpaceInvadersEnv(obs_type="ram")  # (ALE's RAM: training code may ask for it)
 
 
+def test_numpys_numbers_are_taken_where_ales_are_and_play_as_pythons():
+    """ALE takes a numpy number for the sticky actions' probability and the frame limit
+    (a sweep's values often are); the episode is the one the Python number gives."""
+    played = []
+    for sticky, limit in ((0.5, 400), (np.float32(0.5), np.int64(400)), (np.float16(0.5), 400)):
+        env = SpaceInvadersEnv(obs_type="state", repeat_action_probability=sticky,
+                               max_num_frames_per_episode=limit)
+        env.reset(seed=3)
+        steps = 0
+        while not env.step(steps % 6)[3]:
+            steps += 1
+        played.append((steps, env.unwrapped.world.state_hash()))
+    assert played[0] == played[1] == played[2] and played[0][0] == 99  # (400 frames: 100 steps)
+    assert type(SpaceInvadersEnv(repeat_action_probability=np.int64(0))
+                .repeat_action_probability) is float
+
+
 @pytest.mark.parametrize("cartridge", [{"mode": None, "difficulty": None},
                                        {"mode": 0, "difficulty": np.int64(0)}])
 def test_ales_default_mode_and_difficulty_are_taken_and_play_the_one_game(cartridge):

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import functools
+import numbers
 import random
 from collections.abc import Iterable
 from dataclasses import dataclass
@@ -112,7 +113,10 @@ class SpaceInvadersEnv(gym.Env):
                        render_mode, resize, stack, max_num_frames_per_episode)
         _check_cartridge(mode, difficulty)
         self.obs_type, self.frameskip = obs_type, frameskip
-        self.repeat_action_probability = repeat_action_probability
+        # (Python's numbers, whatever number type was given: a frame compares with it)
+        self.repeat_action_probability = float(repeat_action_probability)
+        if max_num_frames_per_episode is not None:
+            max_num_frames_per_episode = int(max_num_frames_per_episode)
         self.max_num_frames_per_episode = max_num_frames_per_episode
         # The frames an episode may last (as ALE's: None, 0 or below is no limit).
         self.frame_limit = max_num_frames_per_episode if (
@@ -402,12 +406,12 @@ def _check_options(obs_type: str, frameskip: Any, repeat_action_probability: Any
         raise ValueError(f"obs_type {obs_type!r}: choose from {', '.join(OBS_TYPES)}{instead}")
     if not _valid_skip(frameskip):
         raise ValueError(f"frameskip {frameskip!r}: a whole number >= 1 or (low, high)")
-    if not (isinstance(repeat_action_probability, (int, float))
+    if not (isinstance(repeat_action_probability, numbers.Real)  # (numpy's too, as ALE's)
             and 0.0 <= repeat_action_probability <= 1.0):
         raise ValueError(f"repeat_action_probability {repeat_action_probability!r}: 0 to 1")
     if not isinstance(full_action_space, (bool, np.bool_)):
         raise ValueError(f"full_action_space {full_action_space!r}: True or False")
-    if not (max_frames is None or isinstance(max_frames, int)):
+    if not (max_frames is None or isinstance(max_frames, numbers.Integral)):
         raise ValueError(f"max_num_frames_per_episode {max_frames!r}: a whole number (0 or "
                          "below, or None: no limit)")
     if resize is not None and (obs_type != "grayscale" or not _valid_size(resize)):
