@@ -407,7 +407,7 @@ def _check_options(obs_type: str, frameskip: Any, repeat_action_probability: Any
     if not _valid_skip(frameskip):
         raise ValueError(f"frameskip {frameskip!r}: a whole number >= 1 or (low, high)")
     if not (isinstance(repeat_action_probability, numbers.Real)  # (numpy's too, as ALE's)
-            and 0.0 <= repeat_action_probability <= 1.0):
+            and 0.0 <= float(repeat_action_probability) <= 1.0):
         raise ValueError(f"repeat_action_probability {repeat_action_probability!r}: 0 to 1")
     if not isinstance(full_action_space, (bool, np.bool_)):
         raise ValueError(f"full_action_space {full_action_space!r}: True or False")
