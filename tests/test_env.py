@@ -566,14 +566,17 @@ def test_two_processes_recording_the_same_episode_keep_both(tmp_path):
     assert first.read_text() == second.read_text() and load(first).ticks == 40
 
 
-@pytest.mark.parametrize("folder", ["", "a-file/episodes"])
-def test_a_record_folder_that_cannot_take_episodes_fails_before_any_play(tmp_path, folder):
-    """An empty name, or a folder inside a file: refused when the environment is made,
-    not after its first episode's play."""
+@pytest.mark.parametrize(("folder", "said"), [("", "record ''"), ("a-file/episodes", "a-file"),
+                                              ("a-file", "a-file' is there and is not a folder")])
+def test_a_record_folder_that_cannot_take_episodes_fails_before_any_play(tmp_path, folder,
+                                                                         said):
+    """An empty name, a folder inside a file, or a file (a name taken for the file to
+    write, say): refused when the environment is made, not after its first episode's play."""
     (tmp_path / "a-file").write_text("not a folder")
     error = ValueError if not folder else OSError
-    with pytest.raises(error, match="record ''" if not folder else "a-file"):
+    with pytest.raises(error, match=said):
         SpaceInvadersEnv(obs_type="state", record=str(tmp_path / folder) if folder else "")
+    assert (tmp_path / "a-file").read_text() == "not a folder"
 
 
 def test_a_new_file_takes_the_first_free_name_even_without_hard_links(tmp_path, monkeypatch):

@@ -71,6 +71,9 @@ class EpisodeRecorder:
         if not isinstance(record, (str, os.PathLike)) or not str(record):
             raise ValueError(f"record {record!r}: a folder to write episodes in, or None")
         folder = Path(record)
+        if folder.exists() and not folder.is_dir():  # (mkdir's word for it: "File exists")
+            raise NotADirectoryError(f"record '{folder}' is there and is not a folder: the "
+                                     "episodes are written into a folder")
         folder.mkdir(parents=True, exist_ok=True)
         fd, tried = tempfile.mkstemp(prefix=".episode.", dir=folder)
         os.close(fd)
