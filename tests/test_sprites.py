@@ -9,6 +9,7 @@ from fractions import Fraction
 from pathlib import Path
 
 import pygame
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -169,6 +170,64 @@ def test_sprites_without_masks_are_their_rects():
     assert found == pygame.sprite.groupcollide(pygame.sprite.Group(a),
                                                pygame.sprite.Group(b, c), False, False)
     assert found == {a: [b]}
+
+
+def _lit_on_screen(sprite) -> set[tuple[int, int]]:
+    """The screen pixels pygame's own `Group.draw` lights for a sprite, its mask its
+    picture (on the screen whole where its corner is above -1, each way)."""
+    screen = pygame.Surface((100, 100))
+    drawn = pygame.sprite.Sprite()
+    drawn.image = sprite.mask.to_surface(setcolor=(255, 255, 255), unsetcolor=(0, 0, 0))
+    drawn.rect = sprite.rect
+    pygame.sprite.Group(drawn).draw(screen)
+    lit = pygame.mask.from_threshold(screen, (255, 255, 255), (1, 1, 1, 255))
+    return {(x, y) for box in lit.get_bounding_rects() for x in range(box.left, box.right)
+            for y in range(box.top, box.bottom) if lit.get_at((x, y))}
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_float_rect_sprites_meet_where_pygame_draws_them_touching(seed):
+    """`FRect`s (pygame-ce's float rects): a sprite is at the pixels pygame draws it on,
+    so two meet exactly when their drawn pixels share one; fractions of a pixel apart
+    either way, as a sprite moved by a float speed stands."""
+    rng = random.Random(seed)
+    sprites = []
+    for _ in range(12):
+        sprite = pygame.sprite.Sprite()
+        sprite.mask = _random_mask(rng)
+        w, h = sprite.mask.get_size()
+        # (from -1: pygame draws a corner at -0.7 at 0, truncated towards zero, as at 0.7)
+        sprite.rect = pygame.FRect(rng.uniform(-1, 40), rng.uniform(-1, 40), w, h)
+        sprites.append(sprite)
+    a, b = sprites[:6], sprites[6:]
+    drawn = {id(s): _lit_on_screen(s) for s in sprites}
+    expected = {x: [y for y in b if drawn[id(x)] & drawn[id(y)]] for x in a}
+    assert GroupCollide()(a, b) == {x: ys for x, ys in expected.items() if ys}
+
+
+def test_float_rect_sprites_are_swept_between_the_pixels_pygame_draws_them_on():
+    """A bullet moved by a float speed (`FRect`, with its `last_rect`): the same contacts,
+    times and points as its drawn `Rect`s give, where swept tests used to stop on the
+    float (a TypeError)."""
+    SHOTS, WALLS = 1, 2
+    rules = RuleTable((PairRule(SHOTS, WALLS, Shape.BOX, Shape.MASK, Motion.SWEPT),))
+    found = []
+    for rect_of in (pygame.FRect, lambda *box: pygame.Rect(pygame.FRect(*box))):
+        bullet, wall = pygame.sprite.Sprite(), pygame.sprite.Sprite()
+        wall.rect, wall.mask = rect_of(40.6, 80.5, 20, 3), mask(*["#" * 20] * 3)
+        bullet.rect, bullet.last_rect = rect_of(50.7, 71.9, 2, 6), rect_of(50.2, 93.4, 2, 6)
+        contacts = SpriteCollider(rules).collide({SHOTS: [bullet], WALLS: [wall]})
+        found.append([(c.a is bullet, c.b is wall, c.time, c.point) for c in contacts])
+    # (drawn from row 93 to row 71, 22 rows up: its top meets the wall's lowest row, 82,
+    # 11 rows on, at x 50)
+    assert found[0] == found[1] == [(True, True, Fraction(11, 22), (50, 82))]
+
+
+def test_a_group_of_a_kind_no_rule_names_is_refused_naming_it():
+    collider = SpriteCollider(RuleTable((PairRule(1, 2),)))
+    with pytest.raises(ValueError, match="kind 7: no entry of the rules names it"):
+        collider.collide({1: [Thing(0, 0, None, 2, 2)], 7: [Thing(0, 0, None, 2, 2)]})
 
 
 def test_the_readme_example_runs_and_prints_what_it_says(capsys):

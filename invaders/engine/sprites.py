@@ -4,7 +4,9 @@
 Each call is one tick. A sprite is a body of its group's kind at `rect.topleft`, shaped by
 its `mask` where it has one and by its rect where it has not. A sprite that says where it
 was last tick (a `last_rect` attribute) is tested along its motion by swept entries; one that
-does not is tested where it is. The collider keeps the bodies and the broad phase between
+does not is tested where it is. A float rect (`FRect`) stands where pygame draws it, at
+`pygame.Rect(frect)` (its corner truncated towards zero, as `blit` does): contacts are
+between the pixels on the screen. The collider keeps the bodies and the broad phase between
 calls, so only what moved costs anything. Kinds are small non-negative integers you choose.
 """
 
@@ -13,6 +15,8 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from fractions import Fraction
 from typing import Any, NamedTuple
+
+import pygame
 
 from invaders.engine.adaptive import DEFAULT_BROADPHASE, make_broadphase
 from invaders.engine.body import Body
@@ -46,6 +50,7 @@ class SpriteCollider:
         self.store = BodyStore(rules.kinds())
         self.stats = CollisionStats()
         self._bodies: dict[tuple[int, int], tuple[Any, Body]] = {}
+        self._kinds = frozenset(rules.kinds())
         self._started = False
 
     def collide(self, groups: Mapping[int, Iterable[Any]]) -> list[SpriteContact]:
@@ -57,6 +62,9 @@ class SpriteCollider:
         self._started = True
         seen: set[tuple[int, int]] = set()
         for kind, sprites in groups.items():
+            if kind not in self._kinds:
+                raise ValueError(f"kind {kind!r}: no entry of the rules names it (they name "
+                                 f"{', '.join(map(str, sorted(self._kinds)))})")
             for sprite in sprites:
                 key = (id(sprite), kind)
                 seen.add(key)
@@ -77,11 +85,13 @@ class SpriteCollider:
 
     def _sync(self, key: tuple[int, int], sprite: Any, kind: int) -> None:
         store = self.store
-        rect = sprite.rect
+        rect = _drawn(sprite.rect)
         mask = getattr(sprite, "mask", None)
         if mask is None:
             mask = solid_mask(rect.width, rect.height)
         last = getattr(sprite, "last_rect", None)
+        if last is not None:
+            last = _drawn(last)
         known = self._bodies.get(key)
         if known is None:
             body = Body(store.new_id(), kind, rect.x, rect.y, mask)
@@ -94,6 +104,12 @@ class SpriteCollider:
         start = (last.x, last.y) if last is not None else (rect.x, rect.y)
         if (body.x, body.y) != (rect.x, rect.y) or body.start_of_tick(store.tick) != start:
             store.move_from(body, *start, rect.x, rect.y)
+
+
+def _drawn(rect: Any) -> pygame.Rect:
+    """The pixels a sprite's rect stands on: a `Rect` itself, an `FRect` where pygame draws
+    it (whole pixels: the engine's positions and sweeps are)."""
+    return rect if isinstance(rect, pygame.Rect) else pygame.Rect(rect)
 
 
 class GroupCollide:
