@@ -172,6 +172,23 @@ def test_sprites_without_masks_are_their_rects():
     assert found == {a: [b]}
 
 
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_sprites_without_masks_meet_as_pygames_rects_do_sizes_negative_and_zero(seed):
+    """A rect of negative size covers what pygame's `colliderect` takes it to (its
+    corner and size made positive), one of size zero nothing."""
+    rng = random.Random(seed)
+    groups = [pygame.sprite.Group(), pygame.sprite.Group()]
+    for i in range(16):
+        box = (rng.randrange(-10, 40), rng.randrange(-10, 40), rng.randrange(-12, 13),
+               rng.randrange(-12, 13))
+        thing = Thing(0, 0, None)
+        thing.rect = pygame.Rect(box)
+        groups[i % 2].add(thing)
+    expected = pygame.sprite.groupcollide(*groups, False, False)
+    assert GroupCollide()(*groups) == expected
+
+
 def _lit_on_screen(sprite) -> set[tuple[int, int]]:
     """The screen pixels pygame's own `Group.draw` lights for a sprite, its mask its
     picture (on the screen whole where its corner is above -1, each way)."""

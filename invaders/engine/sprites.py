@@ -85,13 +85,13 @@ class SpriteCollider:
 
     def _sync(self, key: tuple[int, int], sprite: Any, kind: int) -> None:
         store = self.store
-        rect = _drawn(sprite.rect)
         mask = getattr(sprite, "mask", None)
+        rect = _drawn(sprite.rect, boxed=mask is None)
         if mask is None:
             mask = solid_mask(rect.width, rect.height)
         last = getattr(sprite, "last_rect", None)
         if last is not None:
-            last = _drawn(last)
+            last = _drawn(last, boxed=mask is None)
         known = self._bodies.get(key)
         if known is None:
             body = Body(store.new_id(), kind, rect.x, rect.y, mask)
@@ -106,10 +106,16 @@ class SpriteCollider:
             store.move_from(body, *start, rect.x, rect.y)
 
 
-def _drawn(rect: Any) -> pygame.Rect:
+def _drawn(rect: Any, boxed: bool) -> pygame.Rect:
     """The pixels a sprite's rect stands on: a `Rect` itself, an `FRect` where pygame draws
-    it (whole pixels: the engine's positions and sweeps are)."""
-    return rect if isinstance(rect, pygame.Rect) else pygame.Rect(rect)
+    it (whole pixels: the engine's positions and sweeps are). `boxed`: the rect is the
+    sprite's shape, and one of negative size covers what pygame's `colliderect` takes it
+    to (made positive, `normalize`)."""
+    drawn = rect if isinstance(rect, pygame.Rect) else pygame.Rect(rect)
+    if boxed and (drawn.width < 0 or drawn.height < 0):
+        drawn = drawn.copy()
+        drawn.normalize()
+    return drawn
 
 
 class GroupCollide:
