@@ -189,6 +189,19 @@ def test_sprites_without_masks_meet_as_pygames_rects_do_sizes_negative_and_zero(
     assert GroupCollide()(*groups) == expected
 
 
+def test_a_sprite_without_a_mask_of_negative_size_is_swept_as_its_box_made_positive():
+    rules = RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, Motion.SWEPT),))
+    found = []
+    for now, last in (((5, 0, -3, 2), (5, 30, -3, 2)), ((2, 0, 3, 2), (2, 30, 3, 2))):
+        mover, wall = Thing(0, 0, None), Thing(0, 15, None, 10, 1)
+        mover.rect, mover.last_rect = pygame.Rect(now), pygame.Rect(last)
+        contacts = SpriteCollider(rules).collide({1: [mover], 2: [wall]})
+        found.append([(c.time, c.point) for c in contacts])
+    # (its top row, from 30 to 0, reaches the wall's one row, 15, 15 rows on: half the way,
+    # at x 2, its left column)
+    assert found[0] == found[1] == [(Fraction(15, 30), (2, 15))]
+
+
 def _lit_on_screen(sprite) -> set[tuple[int, int]]:
     """The screen pixels pygame's own `Group.draw` lights for a sprite, its mask its
     picture (on the screen whole where its corner is above -1, each way)."""

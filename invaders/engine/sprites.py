@@ -86,12 +86,13 @@ class SpriteCollider:
     def _sync(self, key: tuple[int, int], sprite: Any, kind: int) -> None:
         store = self.store
         mask = getattr(sprite, "mask", None)
-        rect = _drawn(sprite.rect, boxed=mask is None)
+        boxed = mask is None  # (its rect is its shape)
+        rect = _drawn(sprite.rect, boxed)
         if mask is None:
             mask = solid_mask(rect.width, rect.height)
         last = getattr(sprite, "last_rect", None)
         if last is not None:
-            last = _drawn(last, boxed=mask is None)
+            last = _drawn(last, boxed)
         known = self._bodies.get(key)
         if known is None:
             body = Body(store.new_id(), kind, rect.x, rect.y, mask)
