@@ -3,13 +3,18 @@
 from __future__ import annotations
 
 import itertools
+import re
 
 import pytest
 
+from invaders.engine.adaptive import COMPILED
+from invaders.engine.body import Body
 from invaders.engine.detector import Detector
 from invaders.engine.grid import Grid
+from invaders.engine.predicates import solid_mask
 from invaders.engine.proofs import discrete_miss
-from invaders.engine.rules import Motion, PairRule, RuleTable
+from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
+from invaders.engine.store import BodyStore
 from invaders.game.kinds import Kind
 from invaders.game.rules import NEVER
 from invaders.game.tuning import cheapest_rules, kind_moves, proof_masks
@@ -36,6 +41,29 @@ def test_a_table_that_cannot_be_obeyed_is_refused_when_made(entries, eroding, sa
     with pytest.raises(ValueError, match=said):
         RuleTable(entries, eroding)
     assert list(RuleTable(entries[:1], eroding - {2})) == [entries[0]]  # (one, one eroding)
+
+
+@pytest.mark.parametrize("kind", ["rocks", -1, 64, 2**70, 1.0, None])
+def test_a_kind_that_is_not_a_small_whole_number_is_refused_naming_it(kind):
+    """Kinds are whole numbers from 0 to 63 (a store keeps the kinds it holds as one bit
+    each): anything else is refused when the entry is made, where it failed later, inside
+    the store ("negative shift count", "unsupported operand type(s) for <<")."""
+    if COMPILED and not isinstance(kind, int):  # (a compiled entry checks its fields' types)
+        said, error = "int object expected", TypeError
+    else:
+        said, error = f"kind {re.escape(repr(kind))}: a whole number from 0 to 63", ValueError
+    for entry in ((1, kind), (kind, 1)):
+        with pytest.raises(error, match=said):
+            PairRule(*entry)
+
+
+def test_the_kinds_at_either_end_and_an_enums_meet():
+    entries = (PairRule(0, 63, Shape.BOX, Shape.BOX), PairRule(Kind.SHOT, 63))
+    store = BodyStore(RuleTable(entries).kinds())
+    for kind, x in ((0, 0), (63, 1), (Kind.SHOT, 2)):
+        store.add(Body(store.new_id(), kind, x, 0, solid_mask(2, 2)))
+    contacts, _ = Detector(Grid(), RuleTable(entries)).detect(store)
+    assert sorted(sorted((c.a_kind, c.b_kind)) for c in contacts) == [[0, 63], [Kind.SHOT, 63]]
 
 
 def test_the_named_exclusions():

@@ -35,6 +35,9 @@ class Motion(Enum):
     LANDING = "landing"  # the outcome is defined by where things land, not the path
 
 
+MAX_KIND = 63  # kinds are 0 to 63: a set of them is one bit each of a machine word
+
+
 @dataclass(frozen=True)
 class PairRule:
     """One entry of the table: kinds a and b meet, tested and answered as it says."""
@@ -56,6 +59,10 @@ class PairRule:
     masked: frozenset[int] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        for kind in (self.a, self.b):
+            if not (isinstance(kind, int) and 0 <= kind <= MAX_KIND):
+                raise ValueError(f"kind {kind!r}: a whole number from 0 to {MAX_KIND} (a "
+                                 "store keeps the kinds it holds as one bit each)")
         masked = {kind for kind in (self.b, self.a) if self.shape_of(kind) is Shape.MASK}
         object.__setattr__(self, "masked", frozenset(masked))
         object.__setattr__(self, "needs_pixels", Shape.MASK in (self.a_shape, self.b_shape))
