@@ -23,6 +23,7 @@ import gymnasium
 import numpy as np
 import pygame
 import pytest
+from gymnasium.envs.registration import EnvSpec
 from gymnasium.utils import seeding
 from gymnasium.utils.env_checker import check_env, data_equivalence
 from gymnasium.vector import AutoresetMode
@@ -983,6 +984,27 @@ def test_bad_options_are_refused_in_one_line():
             SpaceInvadersEnv(**options)
     with pytest.raises(ValueError, match="for ALE's RAM, 'state': the game's objects"):
         SpaceInvadersEnv(obs_type="ram")  # (ALE's RAM: training code may ask for it)
+
+
+def test_an_env_spec_saved_as_json_makes_the_same_environment():
+    """Gymnasium's `EnvSpec.to_json` (an experiment's config kept) turns the ranges into
+    lists: made again from it, the environment plays the same episode."""
+    env = gymnasium.make(ENV_ID, obs_type="grayscale", frameskip=(2, 5), resize=(84, 84),
+                         stack=4, max_episode_steps=50)
+    again = gymnasium.make(EnvSpec.from_json(env.spec.to_json()))
+    assert again.spec.kwargs["frameskip"] == [2, 5]  # (as JSON gives it back)
+    played = []
+    for one in (env, again):
+        observation, _ = one.reset(seed=5)
+        frames, ended = [observation], False
+        while not ended:
+            observation, _, terminated, truncated, info = one.step(1 + len(frames) % 5)
+            frames.append(observation)
+            ended = terminated or truncated
+        played.append((np.array(frames), info["episode_frame_number"],
+                       one.unwrapped.world.state_hash()))
+    assert np.array_equal(played[0][0], played[1][0]) and played[0][1:] == played[1][1:]
+    assert len(played[0][0]) == 51 and 2 * 50 < played[0][1] < 4 * 50  # (2 to 4 a step)
 
 
 def test_numpys_numbers_are_taken_where_ales_are_and_play_as_pythons():

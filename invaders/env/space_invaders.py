@@ -112,6 +112,8 @@ class SpaceInvadersEnv(gym.Env):
         _check_options(obs_type, frameskip, repeat_action_probability, full_action_space,
                        render_mode, resize, stack, max_num_frames_per_episode)
         _check_cartridge(mode, difficulty)
+        if isinstance(frameskip, list):  # (a range read from a config file, JSON's say)
+            frameskip = (frameskip[0], frameskip[1])
         self.obs_type, self.frameskip = obs_type, frameskip
         # (Python's numbers, whatever number type was given: a frame compares with it)
         self.repeat_action_probability = float(repeat_action_probability)
@@ -440,9 +442,9 @@ def _valid_size(size: Any) -> bool:
 
 
 def _valid_skip(frameskip: Any) -> bool:
-    """A whole number from 1, or ALE's (low, high) range, drawn from per step (never a
-    bool: ALE refuses one too)."""
-    if isinstance(frameskip, tuple):
+    """A whole number from 1, or ALE's (low, high) range, drawn from per step, as a tuple
+    or a list (never a bool: ALE refuses one too)."""
+    if isinstance(frameskip, (tuple, list)):
         return (len(frameskip) == 2 and all(_whole(n) for n in frameskip)
                 and 1 <= frameskip[0] < frameskip[1])
     return _whole(frameskip) and frameskip >= 1
