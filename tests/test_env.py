@@ -385,7 +385,9 @@ def test_a_shown_environment_copied_or_pickled_shows_its_own_play():
     for other in (copy.deepcopy(env), pickle.loads(pickle.dumps(env))):
         assert other._window is None
         assert _played(other, [1, 4]) == _played(copy.deepcopy(env), [1, 4])
-        assert other._window is not None
+        assert other._window is not None and other._window is not env._window
+        other.close()
+    env.close()
 
 
 STATE_RESTORED = """
@@ -1132,16 +1134,50 @@ def test_without_gymnasium_the_package_says_which_extra_brings_it():
 def test_human_rendering_shows_each_step_in_a_window_three_times_the_size():
     """render_mode="human" (SDL's dummy driver here): after each step the window holds the
     RGB picture of the world, every pixel a 3x3 square."""
+    pygame.display.quit()  # (from no display: the window's opens it, and quits it)
     env = gymnasium.make(ENV_ID, obs_type="state", render_mode="human")
     env.reset(seed=2)
     for action in (1, 2, 2):
         env.step(action)
-        window = pygame.display.get_surface()
-        shown = pygame.surfarray.array3d(window).transpose(1, 0, 2)
-        assert window.get_size() == (224 * 3, 256 * 3)
-        assert np.array_equal(shown[1::3, 1::3], _picture_in_the_window(env.unwrapped.world))
+        assert np.array_equal(_shown(env)[1::3, 1::3],
+                              _picture_in_the_window(env.unwrapped.world))
+    assert env.unwrapped._window.window.size == (224 * 3, 256 * 3)
     env.close()
     assert not pygame.display.get_init()
+
+
+def _shown(env) -> np.ndarray:
+    """What an environment's window shows, as (rows, columns, RGB)."""
+    surface = env.unwrapped._window.window.get_surface()
+    return pygame.surfarray.array3d(surface).transpose(1, 0, 2)
+
+
+def test_two_environments_shown_at_once_each_keep_a_window_of_their_own():
+    """Each environment shown has its own window: closing one leaves the other showing its
+    game (it stopped, 'video system not initialized'); the display is quit with the last,
+    and one the program had open before stays open, its window as it was."""
+    pygame.display.quit()
+    for program_window in (False, True):
+        if program_window:
+            mine = pygame.display.set_mode((20, 10))
+            mine.fill((1, 2, 3))
+        envs = [gymnasium.make(ENV_ID, obs_type="state", render_mode="human")
+                for _ in range(2)]
+        for seed, env in enumerate(envs):
+            env.reset(seed=seed)
+        for action in (1, 4, 5):
+            for env in envs:
+                env.step(action)
+        envs[0].close()
+        for action in (2, 3):
+            envs[1].step(action)
+            assert np.array_equal(_shown(envs[1])[1::3, 1::3],
+                                  _picture_in_the_window(envs[1].unwrapped.world))
+        envs[1].close()
+        assert pygame.display.get_init() is program_window
+        if program_window:
+            assert pygame.display.get_surface().get_at((0, 0)) == (1, 2, 3)
+            pygame.display.quit()
 
 
 @pytest.mark.parametrize(("driver", "why"), [

@@ -26,7 +26,6 @@ import numpy as np
 import pygame
 from gymnasium import spaces
 
-from invaders.display import open_display
 from invaders.engine.stats import STAT_FIELDS
 from invaders.env.ale_view import AleView
 from invaders.env.observations import (
@@ -38,6 +37,7 @@ from invaders.env.observations import (
     StateObserver,
 )
 from invaders.env.recording import EpisodeRecorder, EpisodeRecording
+from invaders.env.window import EnvWindow
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG, SCREEN_H, SCREEN_W
 from invaders.game.events import Event
@@ -139,7 +139,7 @@ class SpaceInvadersEnv(gym.Env):
         self._picture_alone = obs_type != "state" and resize is None and stack == 1
         self._state = StateObserver()
         self._shown: PixelObserver | None = None  # for render(), when observations are not RGB
-        self._window: pygame.Surface | None = None  # the human render's
+        self._window: EnvWindow | None = None  # the human render's
         self._recorder = EpisodeRecorder.into(record)
         if self._recorder is not None:
             self._recorder.watch(self)
@@ -342,7 +342,7 @@ class SpaceInvadersEnv(gym.Env):
                 self._recorder.close()
         finally:
             if self._window is not None:
-                pygame.display.quit()
+                self._window.close()
                 self._window = None
 
     # --- inside ---------------------------------------------------------------------------
@@ -386,17 +386,13 @@ class SpaceInvadersEnv(gym.Env):
     def _show(self, picture: np.ndarray) -> None:
         if self._window is None:
             try:
-                open_display()
+                self._window = EnvWindow("invaders: SpaceInvaders-v0",
+                                         (SCREEN_W * 3, SCREEN_H * 3))
             except pygame.error as error:
                 raise pygame.error(f"render_mode 'human' shows a window, and cannot here "
                                    f"({error}): 'rgb_array' gives its pictures") from None
-            self._window = pygame.display.set_mode((SCREEN_W * 3, SCREEN_H * 3))
-            pygame.display.set_caption("invaders: SpaceInvaders-v0")
             self._clock = pygame.time.Clock()
-        pygame.event.pump()
-        surface = pygame.surfarray.make_surface(picture.transpose(1, 0, 2))
-        pygame.transform.scale(surface, self._window.get_size(), self._window)
-        pygame.display.flip()
+        self._window.show(picture)
 
 
 def _check_options(obs_type: str, frameskip: Any, repeat_action_probability: Any,

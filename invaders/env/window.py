@@ -1,0 +1,46 @@
+"""The window of `render_mode="human"`: each environment shown has one of its own (pygame's
+`Window`, not the display's one surface), so that two shown in one process each keep
+theirs, and closing one leaves the others showing. SDL's display is opened with the first
+window and quit with the last, unless the program had it open before (its own window, a
+game's say, stays as it was).
+"""
+
+from __future__ import annotations
+
+import weakref
+from typing import ClassVar
+
+import numpy as np
+import pygame
+
+from invaders.display import open_display
+
+
+class EnvWindow:
+    """One environment's window, showing its pictures at a whole scale."""
+
+    # The environments' windows open in this process (one dropped unclosed leaves with it),
+    # and whether SDL's display was opened for them (and so is theirs to quit).
+    open_ones: ClassVar[weakref.WeakSet[EnvWindow]] = weakref.WeakSet()
+    display_ours = False
+
+    def __init__(self, title: str, size: tuple[int, int]) -> None:
+        """Opened now (a pygame.error, from `open_display`, where no window can show)."""
+        if not EnvWindow.open_ones:
+            EnvWindow.display_ours = not pygame.display.get_init()
+        open_display()
+        self.window = pygame.Window(title, size)
+        EnvWindow.open_ones.add(self)
+
+    def show(self, picture: np.ndarray) -> None:
+        """The picture (rows, columns, RGB) scaled to fill the window."""
+        pygame.event.pump()  # (a window whose events are never read is deemed hung)
+        surface = pygame.surfarray.make_surface(picture.transpose(1, 0, 2))
+        pygame.transform.scale(surface, self.window.size, self.window.get_surface())
+        self.window.flip()
+
+    def close(self) -> None:
+        self.window.destroy()
+        EnvWindow.open_ones.discard(self)
+        if not EnvWindow.open_ones and EnvWindow.display_ours:
+            pygame.display.quit()
