@@ -83,6 +83,34 @@ def test_the_charts_are_drawn(serial_rows, tmp_path):
     assert {blue, orange} <= colours("b") and {blue, orange} <= colours("c")
 
 
+def test_the_speed_charts_labels_run_into_nothing(serial_rows):
+    """The Pareto front numbered along it and named in the legend under the panel, by
+    number (names written beside close points ran into each other, and past the panel's
+    edge); no label touches another, the legend, the axis' title or its ratios (1x...)."""
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    crowded = [(1.0 + i / 40, 1.0 - i / 9, f"method/{i}") for i in range(9)]  # a front of 9
+    for name, points in [*charts.family_points(serial_rows).items(), ("crowded", crowded)]:
+        fig, ax = plt.subplots(figsize=(6.5, 5.5))
+        charts._speed_accuracy_panel(ax, name, points)
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        front = charts.pareto(points)
+        legend = ax.get_legend()
+        assert [t.get_text() for t in ax.texts] == [str(n) for n in range(1, len(front) + 1)]
+        assert [t.get_text() for t in legend.get_texts()][-len(front):] == [
+            label for _, _, label in front]
+        ticks = [t for t in ax.get_xticklabels(which="both") if t.get_text()]
+        assert ticks and all(t.get_text().endswith("x") for t in ticks)
+        boxes = [t.get_window_extent(renderer) for t in [*ax.texts, *ticks, ax.xaxis.label]]
+        boxes.append(legend.get_window_extent(renderer))
+        for i, box in enumerate(boxes):
+            assert not any(box.overlaps(other) for other in boxes[i + 1:]), (name, i)
+        plt.close(fig)
+
+
 def test_the_pareto_front_keeps_only_points_nothing_beats():
     points = [(1.0, 0.5, "a"), (2.0, 0.1, "b"), (3.0, 0.3, "c"), (4.0, 0.0, "d")]
     assert [p[2] for p in charts.pareto(points)] == ["a", "b", "d"]

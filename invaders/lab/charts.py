@@ -10,6 +10,7 @@
 
 from __future__ import annotations
 
+import math
 from collections import defaultdict
 from pathlib import Path
 
@@ -109,28 +110,58 @@ def speed_accuracy(rows: list[dict], path: Path) -> None:
     fig, axes = plt.subplots(1, len(families), figsize=(6.5 * len(families), 5.5),
                              squeeze=False)
     for ax, (name, points) in zip(axes[0], families.items(), strict=True):
-        front = pareto(points)
-        ax.scatter([p[0] for p in points], [p[1] for p in points], s=18, color="#8899aa",
-                   label="methods")
-        ax.plot([p[0] for p in front], [p[1] for p in front], "-o", color="#d62728", ms=5,
-                label="Pareto front")
-        for x, y, label in front:
-            ax.annotate(label, (x, y), fontsize=7, xytext=(4, 4), textcoords="offset points")
-        default = [p for p in points if p[2] == "rect/mask/auto/every1"]
-        if default:
-            ax.scatter([default[0][0]], [default[0][1]], s=90, marker="*", color="#2ca02c",
-                       zorder=5, label="default (rect/mask/auto/every1)")
-        ax.set_xscale("log")
-        ax.set_yscale("symlog", linthresh=0.01)
-        ax.set_ylim(bottom=0)
-        ax.set_xlabel("time per tick, relative to the fastest method on the same scenes")
-        ax.set_ylabel("errors per true contact (missed + false + late)")
-        ax.set_title(f"{name}: quick / thorough / motion / sampling", fontsize=10)
-        ax.legend(fontsize=8, loc="best")
-        ax.grid(True, which="both", alpha=0.3)
+        _speed_accuracy_panel(ax, name, points)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, bbox_inches="tight")
     plt.close(fig)
+
+
+def _speed_accuracy_panel(ax, name: str, points: list[tuple[float, float, str]]) -> None:
+    """One family's methods, its Pareto front numbered along it, and the default. The
+    front's names are in the legend, under the panel, by number: written beside their
+    points, close ones ran into each other."""
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import FuncFormatter
+
+    front = pareto(points)
+    ax.scatter([p[0] for p in points], [p[1] for p in points], s=18, color="#8899aa",
+               label="methods")
+    ax.plot([p[0] for p in front], [p[1] for p in front], "-o", color="#d62728", ms=5,
+            label="Pareto front")
+    for number, (x, y, _) in enumerate(front, 1):
+        ax.annotate(str(number), (x, y), fontsize=8, xytext=(3, 4), color="#d62728",
+                    textcoords="offset points")
+    default = [p for p in points if p[2] == "rect/mask/auto/every1"]
+    if default:
+        ax.scatter([default[0][0]], [default[0][1]], s=90, marker="*", color="#2ca02c",
+                   zorder=5, label="default (rect/mask/auto/every1)")
+    ax.set_xscale("log")
+    ax.set_yscale("symlog", linthresh=0.01)
+    ax.set_ylim(bottom=0)
+    ax.xaxis.set_major_formatter(FuncFormatter(_times))
+    ax.xaxis.set_minor_formatter(FuncFormatter(_times_if_round))
+    ax.set_xlabel("time per tick, relative to the fastest method on the same scenes")
+    ax.set_ylabel("errors per true contact (missed + false + late)")
+    ax.set_title(f"{name}: quick / thorough / motion / sampling", fontsize=10)
+    numbered = [Line2D([], [], linestyle="none", marker=f"${number}$", color="#d62728",
+                       markersize=6 + 2 * len(str(number)), label=label)
+                for number, (_, _, label) in enumerate(front, 1)]
+    handles, _ = ax.get_legend_handles_labels()
+    ax.legend(handles=handles + numbered, fontsize=8, ncol=2, loc="upper center",
+              bbox_to_anchor=(0.5, -0.13), frameon=False)
+    ax.grid(True, which="both", alpha=0.3)
+
+
+def _times(value: float, _position: object) -> str:
+    """A ratio on the time axis: 1x, 10x."""
+    return f"{value:g}x"
+
+
+def _times_if_round(value: float, position: object) -> str:
+    """The log axis's minor ticks labelled at 2, 3 and 5 of each decade only (2x, 30x):
+    every one of them ran together over two decades."""
+    leading = value / 10 ** math.floor(math.log10(value))
+    return _times(value, position) if round(leading) in (2, 3, 5) else ""
 
 
 def counters(series: dict[str, list[int]], path: Path, title: str) -> None:
