@@ -111,6 +111,34 @@ def test_the_speed_charts_labels_run_into_nothing(serial_rows):
         plt.close(fig)
 
 
+def test_counters_equal_at_every_tick_share_a_line_named_for_both():
+    series = {"naive pairs": [9, 9], "broad phase": [1, 0], "rect tests": [1, 0],
+              "contacts": [0, 0], "mask tests": [0, 0]}
+    assert charts.same_counts(series) == [(["naive pairs"], [9, 9]),
+                                          (["broad phase", "rect tests"], [1, 0]),
+                                          (["contacts", "mask tests"], [0, 0])]
+
+
+def test_the_counters_and_scaling_legends_stand_clear_of_the_lines(tmp_path, monkeypatch):
+    """Beside the panel, not over its lines (the counters' legend covered their ends)."""
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    kept = []
+    monkeypatch.setattr(plt, "close", kept.append)  # (the figures kept to be read)
+    charts.counters({"naive pairs": [500] * 120, "contacts": [0, 1] * 60},
+                    tmp_path / "b.png", "counters")
+    charts.scaling({"ours": [(100, 150.0), (1000, 1300.0)]}, tmp_path / "c.png")
+    for fig in kept:
+        ax = fig.axes[0]
+        renderer = fig.canvas.get_renderer()
+        assert not ax.get_legend().get_window_extent(renderer).overlaps(
+            ax.get_window_extent(renderer))
+    counted = kept[0].axes[0].get_lines()[1].get_ydata()
+    assert min(counted) == 0 and kept[0].axes[0].get_ylim()[0] == 0  # (a zero drawn at 0)
+
+
 def test_the_pareto_front_keeps_only_points_nothing_beats():
     points = [(1.0, 0.5, "a"), (2.0, 0.1, "b"), (3.0, 0.3, "c"), (4.0, 0.0, "d")]
     assert [p[2] for p in charts.pareto(points)] == ["a", "b", "d"]

@@ -27,13 +27,14 @@ def _pyplot():
     return plt
 
 
-def _finish(plt, fig, ax, path: Path, xlabel: str, ylabel: str, title: str,
-            legend_at: str = "best") -> None:
-    """Labels, legend and grid as every chart has them; then save (atomically) and close."""
+def _finish(plt, fig, ax, path: Path, xlabel: str, ylabel: str, title: str) -> None:
+    """Labels, legend and grid as every chart has them; then save (atomically) and close.
+    The legend stands beside the panel, where it covers no line (inside, the lines' ends
+    ran under it)."""
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.set_title(title)
-    ax.legend(fontsize=8, loc=legend_at)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     ax.grid(True, which="both", alpha=0.3)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, bbox_inches="tight")
@@ -165,17 +166,31 @@ def _times_if_round(value: float, position: object) -> str:
 
 
 def counters(series: dict[str, list[int]], path: Path, title: str) -> None:
-    """Per-tick counters (a rolling mean over a second), one line per pipeline step."""
+    """Per-tick counters (a rolling mean over a second), one line per pipeline step; steps
+    that counted the same at every tick share one line (one drawn over the other hid it),
+    and none is 0.01 where it is 0 (the scale is linear below 0.01)."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(8, 4.5))
     window = 60
-    for name, values in series.items():
+    for names, values in same_counts(series):
         smoothed = [sum(values[max(0, i - window + 1):i + 1]) / min(i + 1, window)
                     for i in range(len(values))]
-        ax.plot(range(len(values)), [max(v, 0.01) for v in smoothed], label=name, lw=1.2)
-    ax.set_yscale("log")
-    _finish(plt, fig, ax, path, "tick", "pairs per tick (mean over 60 ticks)", title,
-            legend_at="upper right")
+        ax.plot(range(len(values)), smoothed, label=" = ".join(names), lw=1.2)
+    ax.set_yscale("symlog", linthresh=0.01)
+    ax.set_ylim(bottom=0)
+    _finish(plt, fig, ax, path, "tick", "pairs per tick (mean over 60 ticks)", title)
+
+
+def same_counts(series: dict[str, list[int]]) -> list[tuple[list[str], list[int]]]:
+    """The series in order, those equal at every tick together under all their names."""
+    merged: list[tuple[list[str], list[int]]] = []
+    for name, values in series.items():
+        same = next((names for names, kept in merged if kept == values), None)
+        if same is not None:
+            same.append(name)
+        else:
+            merged.append(([name], values))
+    return merged
 
 
 def scaling(series: dict[str, list[tuple[int, float]]], path: Path) -> None:
