@@ -254,10 +254,13 @@ def test_float_rect_sprites_are_swept_between_the_pixels_pygame_draws_them_on():
     assert found[0] == found[1] == [(True, True, Fraction(11, 22), (50, 82))]
 
 
-def test_a_group_of_a_kind_no_rule_names_is_refused_naming_it():
+def test_a_group_of_a_kind_no_rule_names_is_refused_naming_it_and_nothing_moves():
     collider = SpriteCollider(RuleTable((PairRule(1, 2),)))
+    a, b = Thing(0, 0, None, 2, 2), Thing(1, 1, None, 2, 2)
     with pytest.raises(ValueError, match="kind 7: no entry of the rules names it"):
-        collider.collide({1: [Thing(0, 0, None, 2, 2)], 7: [Thing(0, 0, None, 2, 2)]})
+        collider.collide({1: [a], 7: [b]})
+    assert collider.store.tick == 0 and not collider.store.by_kind[1]  # (as it was)
+    assert [(c.a, c.b) for c in collider.collide({1: [a], 2: [b]})] == [(a, b)]
 
 
 def test_the_readme_example_runs_and_prints_what_it_says(capsys):

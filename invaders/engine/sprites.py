@@ -50,21 +50,21 @@ class SpriteCollider:
         self.store = BodyStore(rules.kinds())
         self.stats = CollisionStats()
         self._bodies: dict[tuple[int, int], tuple[Any, Body]] = {}
-        self._kinds = frozenset(rules.kinds())
         self._started = False
 
     def collide(self, groups: Mapping[int, Iterable[Any]]) -> list[SpriteContact]:
         """This tick's contacts, earliest first (a side an entry spends meets nothing after
         its first contact); `stats` holds the tick's counters."""
         store = self.store
+        for kind in groups:  # (before anything moves; the store holds the rules' kinds)
+            if kind not in store.by_kind:
+                raise ValueError(f"kind {kind!r}: no entry of the rules names it (they name "
+                                 f"{', '.join(map(str, sorted(store.by_kind)))})")
         if self._started:
             store.tick += 1
         self._started = True
         seen: set[tuple[int, int]] = set()
         for kind, sprites in groups.items():
-            if kind not in self._kinds:
-                raise ValueError(f"kind {kind!r}: no entry of the rules names it (they name "
-                                 f"{', '.join(map(str, sorted(self._kinds)))})")
             for sprite in sprites:
                 key = (id(sprite), kind)
                 seen.add(key)
