@@ -87,9 +87,7 @@ def test_the_speed_charts_labels_run_into_nothing(serial_rows):
     """The Pareto front numbered along it and named in the legend under the panel, by
     number (names written beside close points ran into each other, and past the panel's
     edge); no label touches another, the legend, the axis' title or its ratios (1x...)."""
-    matplotlib = pytest.importorskip("matplotlib")
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = charts._pyplot()  # (matplotlib as the charts draw with it)
 
     crowded = [(1.0 + i / 40, 1.0 - i / 9, f"method/{i}") for i in range(9)]  # a front of 9
     for name, points in [*charts.family_points(serial_rows).items(), ("crowded", crowded)]:
@@ -121,9 +119,7 @@ def test_counters_equal_at_every_tick_share_a_line_named_for_both():
 
 def test_the_counters_and_scaling_legends_stand_clear_of_the_lines(tmp_path, monkeypatch):
     """Beside the panel, not over its lines (the counters' legend covered their ends)."""
-    matplotlib = pytest.importorskip("matplotlib")
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = charts._pyplot()  # (matplotlib as the charts draw with it)
 
     kept = []
     monkeypatch.setattr(plt, "close", kept.append)  # (the figures kept to be read)
