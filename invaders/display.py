@@ -10,12 +10,17 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Callable
 
 import pygame
 
 from invaders.quiet import c_stderr_quiet
 
 NO_WINDOW_DRIVERS = ("dummy", "offscreen")
+# What a window's frame and the desktop's own bars take of the screen, across and down,
+# beside the window's picture: borders; a title bar and a task bar, or macOS's menu bar,
+# dock and title bar (about 130 px, the most of those).
+FRAME_PX = (16, 130)
 
 
 def open_display() -> None:
@@ -37,3 +42,15 @@ def open_display() -> None:
         pygame.display.quit()
         raise pygame.error(f"no display: SDL fell back to its '{driver}' driver, which "
                            "shows no window")
+
+
+def fitting_scale(asked: int, size_at: Callable[[int], tuple[int, int]]) -> int:
+    """The largest scale up to `asked` at which a window of `size_at(scale)` fits on the
+    (first) screen with its frame and the desktop's bars (1 where none does: a window
+    taller than the screen opens with its title bar above it). The display is open."""
+    screen_w, screen_h = pygame.display.get_desktop_sizes()[0]
+    for scale in range(asked, 1, -1):
+        width, height = size_at(scale)
+        if width + FRAME_PX[0] <= screen_w and height + FRAME_PX[1] <= screen_h:
+            return scale
+    return 1

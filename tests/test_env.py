@@ -1131,17 +1131,19 @@ def test_without_gymnasium_the_package_says_which_extra_brings_it():
         "'.[rl]'")
 
 
-def test_human_rendering_shows_each_step_in_a_window_three_times_the_size():
-    """render_mode="human" (SDL's dummy driver here): after each step the window holds the
-    RGB picture of the world, every pixel a 3x3 square."""
+def test_human_rendering_shows_each_step_in_a_window_at_the_largest_scale_that_fits():
+    """render_mode="human" (SDL's dummy driver here, its screen 1024x768): after each step
+    the window holds the RGB picture of the world, every pixel a 2x2 square (3x3, 768 px
+    tall, would not fit with a title bar and a task bar)."""
     pygame.display.quit()  # (from no display: the window's opens it, and quits it)
     env = gymnasium.make(ENV_ID, obs_type="state", render_mode="human")
     env.reset(seed=2)
+    assert pygame.display.get_desktop_sizes()[0] == (1024, 768)
     for action in (1, 2, 2):
         env.step(action)
-        assert np.array_equal(_shown(env)[1::3, 1::3],
+        assert np.array_equal(_shown(env)[1::2, 1::2],
                               _picture_in_the_window(env.unwrapped.world))
-    assert env.unwrapped._window.window.size == (224 * 3, 256 * 3)
+    assert env.unwrapped._window.window.size == (224 * 2, 256 * 2)
     env.close()
     assert not pygame.display.get_init()
 
@@ -1171,7 +1173,7 @@ def test_two_environments_shown_at_once_each_keep_a_window_of_their_own():
         envs[0].close()
         for action in (2, 3):
             envs[1].step(action)
-            assert np.array_equal(_shown(envs[1])[1::3, 1::3],
+            assert np.array_equal(_shown(envs[1])[1::2, 1::2],
                                   _picture_in_the_window(envs[1].unwrapped.world))
         envs[1].close()
         assert pygame.display.get_init() is program_window

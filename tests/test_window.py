@@ -248,7 +248,8 @@ def test_f11_fills_the_screen_and_brings_the_window_back_at_its_own_size_and_pla
 
 def test_f4_widens_the_window_where_it_stands_and_never_past_the_screen():
     from invaders.app.labpanel import panel_width
-    from invaders.app.play import fit_beside_panel
+    from invaders.app.play import Session, fit_beside_panel
+    from tests.helpers import FakeClock
 
     session = _display_session(2)
     place = pygame.display.get_window_position()
@@ -258,7 +259,8 @@ def test_f4_widens_the_window_where_it_stands_and_never_past_the_screen():
     session.handle(_key(pygame.KEYDOWN, pygame.K_F4))
     assert session.target.get_size() == (448, 512)
     pygame.display.quit()
-    session = _display_session(3)  # 672 + 336 across a 1024-px screen: it fits
+    pygame.display.set_mode((672, 768), pygame.RESIZABLE)  # (made that size: 672 + 336
+    session = Session(World(seed=0), pygame.display.get_surface(), FakeClock())  # fit 1024)
     session.handle(_key(pygame.KEYDOWN, pygame.K_F4))
     assert session.target.get_size() == (672 + panel_width(3), 768)
     pygame.display.quit()
@@ -327,6 +329,26 @@ def test_in_a_real_x_server_f11_comes_back_to_the_windows_place_and_f4_stays_the
     assert start[0] == [672, 768] and full == [[1280, 1024], [0, 0], True]
     assert back == start
     assert panel[0][0] > 672 and panel[1] == start[1] and panel[0][0] <= 1280
+
+
+def test_in_a_real_x_server_a_scale_too_big_for_the_screen_opens_one_that_fits():
+    """`--scale 8` on a 1280x1024 screen: a window 2,048 px tall opened with its title bar
+    and score above the screen. It opens at scale 3 below the screen's top, and says so."""
+    child = ("import json, time, pygame\n"
+             "from invaders.app.play import open_window\n"
+             "open_window(8)\n"
+             "for _ in range(20):\n    pygame.event.pump(); time.sleep(0.02)\n"
+             "print(json.dumps([pygame.display.get_window_size(),\n"
+             "                  pygame.display.get_window_position()]))\n")
+    with _x_server() as env:
+        result = subprocess.run([sys.executable, "-c", child], capture_output=True,
+                                text=True, timeout=120, env=env, check=False)
+    assert result.returncode == 0, result.stderr
+    size, place = json.loads(result.stdout)
+    assert size == [224 * 3, 256 * 3] and place[1] >= 0
+    assert result.stderr == ("invaders: a window at scale 8 would not fit on this 1280x1024 "
+                             "screen: opened at scale 3 (resize it, or F11 for the full "
+                             "screen)\n")
 
 
 def test_bench_window_needs_a_display_and_says_so_in_one_line():

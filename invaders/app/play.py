@@ -25,7 +25,7 @@ from invaders.app.signals import StopSignals
 from invaders.app.sound import SoundBoard
 from invaders.app.splash import FPS
 from invaders.atomic import atomic_writer
-from invaders.display import open_display
+from invaders.display import fitting_scale, open_display
 from invaders.engine.adaptive import DEFAULT_BROADPHASE
 from invaders.game.actions import Action
 from invaders.game.config import SCREEN_H, SCREEN_W
@@ -337,10 +337,20 @@ class Session:
 
 
 def open_window(scale: int, title: str = "invaders", lab: bool = False) -> pygame.Surface:
-    """A window, or pygame.error if there is no display to show one (`open_display`)."""
+    """A window at the scale asked, or at the largest that fits on the screen, saying so;
+    pygame.error if there is no display to show one (`open_display`)."""
     open_display()
-    width = SCREEN_W * scale + (panel_width(scale) if lab else 0)
-    window = pygame.display.set_mode((width, SCREEN_H * scale), pygame.RESIZABLE)
+
+    def size_at(scale: int) -> tuple[int, int]:
+        return SCREEN_W * scale + (panel_width(scale) if lab else 0), SCREEN_H * scale
+
+    fitting = fitting_scale(scale, size_at)
+    if fitting < scale:
+        screen_w, screen_h = pygame.display.get_desktop_sizes()[0]
+        print(f"invaders: a window at scale {scale} would not fit on this {screen_w}x"
+              f"{screen_h} screen: opened at scale {fitting} (resize it, or F11 for the full "
+              "screen)", file=sys.stderr)
+    window = pygame.display.set_mode(size_at(fitting), pygame.RESIZABLE)
     pygame.display.set_caption(f"{title}  (arrows/A D move, space fires, P pause, "
                                "F3 overlay, F4 lab)")
     return window

@@ -386,8 +386,7 @@ class SpaceInvadersEnv(gym.Env):
     def _show(self, picture: np.ndarray) -> None:
         if self._window is None:
             try:
-                self._window = EnvWindow("invaders: SpaceInvaders-v0",
-                                         (SCREEN_W * 3, SCREEN_H * 3))
+                self._window = EnvWindow("invaders: SpaceInvaders-v0", (SCREEN_W, SCREEN_H), 3)
             except pygame.error as error:
                 raise pygame.error(f"render_mode 'human' shows a window, and cannot here "
                                    f"({error}): 'rgb_array' gives its pictures") from None

@@ -13,7 +13,7 @@ from typing import ClassVar
 import numpy as np
 import pygame
 
-from invaders.display import open_display
+from invaders.display import fitting_scale, open_display
 
 
 class EnvWindow:
@@ -24,12 +24,14 @@ class EnvWindow:
     open_ones: ClassVar[weakref.WeakSet[EnvWindow]] = weakref.WeakSet()
     display_ours = False
 
-    def __init__(self, title: str, size: tuple[int, int]) -> None:
-        """Opened now (a pygame.error, from `open_display`, where no window can show)."""
+    def __init__(self, title: str, size: tuple[int, int], scale: int) -> None:
+        """Opened now, the picture's `size` at `scale` or the largest that fits on the
+        screen (a pygame.error, from `open_display`, where no window can show)."""
         if not EnvWindow.open_ones:
             EnvWindow.display_ours = not pygame.display.get_init()
         open_display()
-        self.window = pygame.Window(title, size)
+        scale = fitting_scale(scale, lambda scale: (size[0] * scale, size[1] * scale))
+        self.window = pygame.Window(title, (size[0] * scale, size[1] * scale))
         EnvWindow.open_ones.add(self)
 
     def show(self, picture: np.ndarray) -> None:
