@@ -96,7 +96,7 @@ def windowed(world: World, **options):
     from invaders.app.play import Session
 
     clock = FakeClock()
-    return Session(world, pygame.Surface((224, 256)), clock, scale=1, **options), clock
+    return Session(world, pygame.Surface((224, 256)), clock, **options), clock
 
 
 def through_the_prompt(app, clock) -> list[bool]:

@@ -75,7 +75,7 @@ def _picture_in_the_window(world) -> np.ndarray:
     """The window's picture at the end of the last tick (alpha 1: the movers where the
     world has them)."""
     target = pygame.Surface((224, 256))
-    Renderer(scale=1).draw(target, world, alpha=1.0)
+    Renderer().draw(target, world, alpha=1.0)
     return pygame.surfarray.array3d(target).transpose(1, 0, 2)
 
 

@@ -169,7 +169,7 @@ def test_key_2_in_the_attract_cycle_starts_a_game_of_two(monkeypatch):
     from tests.helpers import FakeClock
 
     clock = FakeClock()
-    app = App(World(seed=4), pygame.Surface((224, 256)), clock, scale=1)
+    app = App(World(seed=4), pygame.Surface((224, 256)), clock)
     app.step([pygame.event.Event(pygame.KEYDOWN, key=pygame.K_2)], 0)
     assert app.mode == "prompt" and app.session.world.players == 2
     through_the_prompt(app, clock)

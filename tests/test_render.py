@@ -25,12 +25,12 @@ def test_the_cannon_is_drawn_pixel_for_pixel_and_scaled_as_blocks():
     world = active_world()
     cannon = world.cannon
     flat = pygame.Surface((224, 256))
-    Renderer(1).draw(flat, world)
+    Renderer().draw(flat, world)
     for y, row in enumerate(art.CANNON):
         for x, ch in enumerate(row):
             assert _lit(flat, cannon.x + x, cannon.y + y) == (ch == "#"), (x, y)
     big = pygame.Surface((224 * 3, 256 * 3))
-    Renderer(3).draw(big, world)
+    Renderer().draw(big, world)
     for y, row in enumerate(art.CANNON):
         for x, ch in enumerate(row):
             for dy in range(3):
@@ -48,7 +48,7 @@ def test_drawing_with_the_overlay_does_not_change_the_world():
     report = world.step(0)
     after_step = world.state_hash()
     assert after_step != before
-    Renderer(2).draw(target, world, 0.5, overlay=True, report=report)
+    Renderer().draw(target, world, 0.5, overlay=True, report=report)
     assert world.state_hash() == after_step
 
 
@@ -68,7 +68,7 @@ def test_screenshot_writes_a_png_of_the_scaled_window(tmp_path, capsys):
     for _ in range(300):
         world.step(pilot.actions(world))
     expected = pygame.Surface((448, 512))
-    Renderer(2).draw(expected, world)
+    Renderer().draw(expected, world)
     assert pygame.image.tobytes(image, "RGB") == pygame.image.tobytes(expected, "RGB")
 
 
@@ -112,7 +112,7 @@ def test_game_over_is_written_clear_of_the_rack_and_the_dead_cannon_is_cleared()
     step_until(world, lambda r: world.phase is Phase.GAME_OVER, limit=200)
     assert world.cannon.state is CannonState.EXPLODING and world.cannon.timer <= 0
     target = pygame.Surface((224, 256))
-    Renderer(1).draw(target, world)
+    Renderer().draw(target, world)
     cannon = world.cannon
     area = target.subsurface((cannon.x, cannon.y, 16, 8))
     assert all(area.get_at((x, y))[:3] == (0, 0, 0) for x in range(16) for y in range(8))
@@ -123,7 +123,7 @@ def test_a_window_of_another_shape_shows_the_game_unstretched_between_black_bord
 
     world = active_world()
     target = pygame.Surface((800, 600))
-    Renderer(3).draw(target, world, overlay=True)
+    Renderer().draw(target, world, overlay=True)
     view = View.of((800, 600))
     assert view.scale == 600 / 256 and (view.x, view.y) == (138, 0)  # 525 px wide, centred
     for x in (0, 137, 663, 799):
@@ -135,9 +135,9 @@ def test_a_window_of_another_shape_shows_the_game_unstretched_between_black_bord
 def test_the_overlay_text_is_legible_at_scale_1_and_its_lines_stay_off_the_hud():
     world = active_world()
     target = pygame.Surface((224, 256))
-    Renderer(1).draw(target, world, overlay=True, report=world.step(0))
+    Renderer().draw(target, world, overlay=True, report=world.step(0))
     plain = pygame.Surface((224, 256))
-    Renderer(1).draw(plain, world, overlay=False, report=None)
+    Renderer().draw(plain, world, overlay=False, report=None)
     for y in list(range(0, 31)) + list(range(241, 256)):  # the score bar and bottom line
         assert all(target.get_at((x, y)) == plain.get_at((x, y)) for x in range(224)), y
 
@@ -152,7 +152,7 @@ def test_the_end_of_a_replay_reads_on_a_band_cleared_of_the_rack_behind_it():
         world.step(0)
     target = pygame.Surface((224, 256))
     lines = ["REPLAY ENDED", "CHECKPOINTS MATCHED", "ENTER PLAYS  ESC QUITS"]
-    Renderer(scale=1).draw(target, world, replay_verdict=lines[1])
+    Renderer().draw(target, world, replay_verdict=lines[1])
     letters = Picture()  # the same lines alone, on black
     for i, line in enumerate(lines):
         letters.text(line, (224 - 8 * len(line)) // 2, 88 + 16 * i)
@@ -206,7 +206,7 @@ def test_the_hit_cannon_is_held_for_five_frames_then_shows_the_1c80_debris_first
     world.kill_cannon()
     for _ in range(7):  # the 8th frame since the hit: the first debris picture
         world.step(0)
-    Renderer(1).draw(flat, world)
+    Renderer().draw(flat, world)
     x, y = world.cannon.x, world.cannon.y
     for row, line in enumerate(c80):
         for col, ch in enumerate(line):
@@ -220,11 +220,11 @@ def test_after_an_invasion_the_bottom_line_shows_no_ships_left():
     world.invaded = True  # the rack has landed; the count still holds 3
     assert ("0", 8, 240) in hud_texts(world)
     flat = pygame.Surface((224, 256))
-    Renderer(1).draw(flat, world)
+    Renderer().draw(flat, world)
     icons = flat.subsurface((24, 240, 112, 8))
     assert not any(_lit(icons, x, y) for x in range(112) for y in range(8))
     world.invaded = False
-    Renderer(1).draw(flat, world)
+    Renderer().draw(flat, world)
     assert any(_lit(icons, x, y) for x in range(112) for y in range(8))
 
 
@@ -250,7 +250,7 @@ def test_a_screenshot_of_the_attract_cycle_is_its_still_pixel_for_pixel_and_says
     assert capsys.readouterr().out == f"saved {path}: the attract cycle's pull\n"
     texts, pictures = card("pull")
     expected = pygame.Surface((224, 256))
-    Renderer(1).draw_card(expected, World(seed=0), texts, pictures)
+    Renderer().draw_card(expected, World(seed=0), texts, pictures)
     image = pygame.image.load(str(path))
     assert pygame.image.tobytes(image, "RGB") == pygame.image.tobytes(expected, "RGB")
 
@@ -260,7 +260,7 @@ def test_each_live_alien_is_drawn_in_its_own_frames_picture_pixel_for_pixel():
     while len({alien.frame for alien in world.rack.live_aliens()}) < 2:  # (mid-march)
         world.step(0)
     flat = pygame.Surface((224, 256))
-    Renderer(1).draw(flat, world)
+    Renderer().draw(flat, world)
     for alien in world.rack.live_aliens():
         picture = art.ALIEN_BY_ROW[alien.row][alien.frame]
         for y, row in enumerate(picture):

@@ -74,7 +74,7 @@ def test_a_windowed_session_at_any_frame_rate_gives_the_recorded_hashes(replay_f
     world = World(replay.seed, replay.config)
     clock = FakeClock()
     target = open_window(1) if window else pygame.Surface((224, 256))  # dummy video driver
-    session = Session(world, target, clock, scale=1, replay=replay)
+    session = Session(world, target, clock, replay=replay)
     expected = {c.tick: c.hash for c in replay.checkpoints}
     seen = {}
     frames = 0

@@ -102,7 +102,7 @@ def test_a_stall_of_seconds_changes_nothing_but_the_pace():
 
     world = World(replay.seed, replay.config)
     now = [0.0]
-    session = Session(world, pygame.Surface((224, 256)), lambda: now[0], scale=1,
+    session = Session(world, pygame.Surface((224, 256)), lambda: now[0],
                       replay=replay)
     frames = 0
     while not session.replay_done:

@@ -120,7 +120,7 @@ def _app():
 
     clock = FakeClock()
     world = World(seed=4)
-    return App(world, pygame.Surface((224, 256)), clock, scale=1), clock, world
+    return App(world, pygame.Surface((224, 256)), clock), clock, world
 
 
 def test_the_attract_cycle_runs_its_steps_the_demo_until_its_cannon_dies_and_enter_starts():
@@ -230,7 +230,7 @@ def _display_session(scale: int):
     from tests.helpers import FakeClock
 
     window = open_window(scale)
-    return Session(World(seed=0), window, FakeClock(), scale=scale)
+    return Session(World(seed=0), window, FakeClock())
 
 
 def test_f11_fills_the_screen_and_brings_the_window_back_at_its_own_size_and_place():
@@ -275,7 +275,7 @@ import json, time, pygame
 from invaders.app.play import Session, open_window
 from invaders.game.world import World
 window = open_window(3)
-session = Session(World(seed=0), window, time.perf_counter, scale=3)
+session = Session(World(seed=0), window, time.perf_counter)
 def now():
     for _ in range(20):
         pygame.event.pump()

@@ -52,13 +52,13 @@ class Attract:
     """The cycle's steps one after the other as real time passes (the demo as long as its
     game lasts); the first cycle has the animations, and every other one after it."""
 
-    def __init__(self, target: pygame.Surface, clock: Callable[[], float], scale: int,
-                 scores: World, make_demo: Callable[[], Demo]) -> None:
+    def __init__(self, target: pygame.Surface, clock: Callable[[], float], scores: World,
+                 make_demo: Callable[[], Demo]) -> None:
         self.target = target
         self.clock = clock
         self.scores = scores  # the player's world: its score bar is shown throughout
         self.make_demo = make_demo
-        self.renderer = Renderer(scale)
+        self.renderer = Renderer()
         self.animated = True
         self.restart()
 

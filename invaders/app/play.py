@@ -76,7 +76,7 @@ class Session:
     """A game in a window: one `frame()` per displayed frame."""
 
     def __init__(self, world: World, target: pygame.Surface, clock: Callable[[], float],
-                 scale: int = 3, replay: Replay | None = None, speed: int = 1,
+                 replay: Replay | None = None, speed: int = 1,
                  recorder: Recorder | None = None, overlay: bool = False,
                  pilot: Autopilot | None = None, sounds: SoundBoard | None = None,
                  lab: Choice | None = None) -> None:
@@ -87,7 +87,7 @@ class Session:
         self.sounds = sounds
         self.loop = FixedStepLoop(clock, world.config.tick_hz * speed,
                                   max_catch_up=5 * speed)
-        self.renderer = Renderer(scale)
+        self.renderer = Renderer()
         self.inputs: Iterator[int] | None = replay.actions() if replay else None
         # The replay's checkpoints, each compared as the world reaches its tick (kept packed:
         # a replay of 145,000 took 0.5 s to index as objects and ran max() each frame).
@@ -364,15 +364,14 @@ class App:
     """
 
     def __init__(self, world: World, window: pygame.Surface, clock: Callable[[], float],
-                 scale: int = 3, replay: Replay | None = None, speed: int = 1,
+                 replay: Replay | None = None, speed: int = 1,
                  recorder: Recorder | None = None, overlay: bool = False,
                  broadphase: str = DEFAULT_BROADPHASE, attract_first: bool = True,
                  sounds: SoundBoard | None = None, lab: Choice | None = None) -> None:
-        self.window, self.clock, self.scale, self.broadphase = window, clock, scale, broadphase
-        self.session = Session(world, window, clock, scale, replay, speed, recorder, overlay,
+        self.window, self.clock, self.broadphase = window, clock, broadphase
+        self.session = Session(world, window, clock, replay, speed, recorder, overlay,
                                sounds=sounds, lab=lab)
-        self.attract = None if replay is not None else Attract(window, clock, scale, world,
-                                                                self._demo)
+        self.attract = None if replay is not None else Attract(window, clock, world, self._demo)
         self.mode = "attract" if self.attract is not None and attract_first else "game"
 
     def _start(self, players: int) -> None:
@@ -397,7 +396,7 @@ class App:
         old = self.session
         lab = old.lab.choice if old.lab_open and old.lab else None
         world = World(seed=old.world.seed, broadphase=self.broadphase, players=players)
-        self.session = Session(world, old.target, self.clock, self.scale, overlay=old.overlay,
+        self.session = Session(world, old.target, self.clock, overlay=old.overlay,
                                sounds=old.sounds, lab=lab)
         return self.session
 
@@ -422,7 +421,7 @@ class App:
 
     def _demo(self) -> Session:
         world, pilot = demo_world(self.broadphase)
-        return Session(world, self.window, self.clock, self.scale, pilot=pilot)
+        return Session(world, self.window, self.clock, pilot=pilot)
 
     def frames_per_second(self) -> int:
         if self.mode in ("attract", "prompt") and self.attract is not None:
@@ -491,7 +490,7 @@ def play(seed: int = 0, scale: int = 3, broadphase: str = DEFAULT_BROADPHASE, ov
     recorder = Recorder(world, record, SAVE_EVERY) if record else None
     title = "invaders" if replay is None else f"invaders: replay at {speed}x"
     window = open_window(scale, title, lab is not None)
-    app = App(world, window, time.perf_counter, scale, replay, speed, recorder, overlay,
+    app = App(world, window, time.perf_counter, replay, speed, recorder, overlay,
               broadphase, attract_first=recorder is None,  # a recording starts with its game
               sounds=SoundBoard(muted=mute), lab=lab)
     frame_clock = pygame.time.Clock()
@@ -537,9 +536,9 @@ def screenshot(path: str, seed: int = 0, ticks: int = 600, scale: int = 3,
     target = pygame.Surface((width, SCREEN_H * scale))
     if attract is not None:
         texts, pictures = card(attract)
-        Renderer(scale).draw_card(target, World(seed=seed), texts, pictures)
+        Renderer().draw_card(target, World(seed=seed), texts, pictures)
     else:
-        session = Session(world, target, time.perf_counter, scale, overlay=overlay, lab=lab)
+        session = Session(world, target, time.perf_counter, overlay=overlay, lab=lab)
         for _ in range(ticks):
             session.report = world.step(pilot.actions(world))
         session.draw()

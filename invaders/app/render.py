@@ -1,4 +1,4 @@
-"""Draws a World at any integer scale; never writes it. Debug overlay: grid, pairs, counters.
+"""Draws a World into a window of any size; never writes it. Debug overlay: grid, pairs, counters.
 
 The overlay draws the cells and counters the tick report names and the candidate pairs a
 `CandidateWatch` saw (an observer of the detector, attached only while the overlay is on).
@@ -48,8 +48,7 @@ class CandidateWatch:
 class Renderer:
     """The picture, scaled into a window; `draw` paints one frame onto a target surface."""
 
-    def __init__(self, scale: int = 3) -> None:
-        self.scale = scale
+    def __init__(self) -> None:
         self.picture = Picture()
         self._font: pygame.font.Font | None = None
         self._font_size = 0

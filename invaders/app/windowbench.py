@@ -25,7 +25,7 @@ from invaders.lab.autopilot import Autopilot
 seconds, scale = float(sys.argv[1]), int(sys.argv[2])
 window = open_window(scale)
 world = World(seed=3)
-session = Session(world, window, time.perf_counter, scale, pilot=Autopilot(3))
+session = Session(world, window, time.perf_counter, pilot=Autopilot(3))
 clock = pygame.time.Clock()
 for _ in range(30):  # settle: the window mapped, the first frames drawn
     pygame.event.pump(); session.frame(0) and pygame.display.flip(); clock.tick(60)
