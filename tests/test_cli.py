@@ -267,3 +267,24 @@ def test_an_unreachable_dask_scheduler_is_bad_input_and_makes_nothing(tmp_path, 
     err = capsys.readouterr().err
     assert len(err.splitlines()) == 1 and "no Dask scheduler answers" in err
     assert not out.exists()
+
+
+def test_every_option_of_every_command_says_what_it_does_and_its_default():
+    """`invaders COMMAND --help` describes each option (--seed, --scale, --ticks and
+    --broadphase said nothing), and one that takes a number or a name without a list to
+    choose from names its default."""
+    import argparse
+
+    from invaders.app.cli import COMMANDS, build_parser
+
+    for command in COMMANDS:
+        parser = build_parser(command)
+        sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        for action in sub.choices[command]._actions:
+            if isinstance(action, argparse._HelpAction):
+                continue
+            name = f"{command} {action.option_strings or action.dest}"
+            assert action.help, f"{name} has no help"
+            if (action.choices is None and action.default is not None
+                    and not isinstance(action.default, bool)):
+                assert f"{action.default} by default" in action.help, name

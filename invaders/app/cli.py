@@ -117,16 +117,25 @@ def build_parser(command: str | None = None) -> Parser:
     return parser
 
 
+SEED_HELP = ("seeds the autopilot, and the game's generator, from which the 1978 rules draw "
+             "nothing (0 by default)")
+BROADPHASE_HELP = (f"the collision pipeline's broad phase ({DEFAULT_BROADPHASE} by default: "
+                   "chosen by the scene's size); the state hash is the same with each")
+
+
 def _add_play(sub: argparse._SubParsersAction) -> None:
     play = sub.add_parser("play", help="play in a window")
     # (--seed, --players, --ticks and --speed default to None, so that one given where it
     # would do nothing is told from one left out: _unused_play_flag.)
-    play.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1))
-    play.add_argument("--scale", type=_int_in("--scale", 1, 8), default=3)
+    play.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), help=SEED_HELP)
+    play.add_argument("--scale", type=_int_in("--scale", 1, 8), default=3,
+                      help="the window: 224x256 px times this, 1 to 8 (3 by default; at most "
+                           "what fits the screen)")
     play.add_argument("--players", type=_int_in("--players", 1, 2),
                       help="the game a recording or a screenshot starts with (in the "
                            "window, 1 or 2 starts either)")
-    play.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE)
+    play.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE,
+                      help=BROADPHASE_HELP)
     play.add_argument("--screenshot", metavar="FILE", type=_named("--screenshot"),
                       help="run headless for --ticks with the autopilot, save the window as PNG")
     play.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS),
@@ -149,16 +158,20 @@ def _add_play(sub: argparse._SubParsersAction) -> None:
 
 def _add_run(sub: argparse._SubParsersAction) -> None:
     run = sub.add_parser("run", help="run headless and print a summary and the state hash")
-    run.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=3600)
-    run.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0)
+    run.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=3600,
+                     help="how long it runs, 60 ticks a second of game time (3600 by default)")
+    run.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0,
+                     help=SEED_HELP)
     run.add_argument("--players", type=_int_in("--players", 1, 2), default=1,
-                     help="two take turns at each death, each with their own rack and shields")
+                     help="two take turns at each death, each with their own rack and shields "
+                          "(1 by default)")
     run.add_argument("--autopilot", nargs="?", const="hunter", choices=sorted(STYLES),
                      metavar="STYLE",
                      help="let the built-in player play: " + ", ".join(
                          f"{name} (default)" if name == "hunter" else name
                          for name in STYLES))
-    run.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE)
+    run.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE,
+                     help=BROADPHASE_HELP)
     run.add_argument("--cell", type=_int_in("--cell", 1, 1024),  # (None: see _run_world)
                      help="cell size in px of the grid and of the broad phases built on its "
                           f"cells ({DEFAULT_CELL} by default)")
@@ -176,7 +189,8 @@ def _add_replay(sub: argparse._SubParsersAction) -> None:
                        help="replay files or folders")
     check.add_argument("--update", action="store_true",
                        help="rewrite the expected checkpoints (after an intended rule change)")
-    check.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE)
+    check.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE,
+                       help=BROADPHASE_HELP)
 
 
 def _add_study(sub: argparse._SubParsersAction) -> None:
@@ -186,11 +200,11 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
                        help="also a storm of 30,000 bodies in the scaling chart (minutes more)")
     where = study.add_mutually_exclusive_group()  # (a cluster has its own workers)
     where.add_argument("--jobs", type=_int_in("--jobs", 1, 64), default=1,
-                       help="run scenes in this many processes")
+                       help="run scenes in this many processes (1 by default)")
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="run scenes on a Dask cluster (the [study] extra)")
     study.add_argument("--out", metavar="FOLDER", default="study", type=_named("--out"),
-                       help="where study.csv, scaling.csv and the charts go")
+                       help="where study.csv, scaling.csv and the charts go (study by default)")
     study.add_argument("--replays", metavar="FOLDER", default=None,
                        help="the replays to study (*.json)")
 
@@ -214,7 +228,8 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
                        help="section 5's largest group size, sprites a side (default 1,000; "
                             "2,000 with --big)")
     bench.add_argument("--rounds", type=_int_in("--rounds", 3, 100), default=10,
-                       help="interleaved rounds; figures are medians over them")
+                       help="interleaved rounds, 3 to 100 (10 by default); figures are medians "
+                            "over them")
     instead = bench.add_mutually_exclusive_group()  # (one at a time: each runs alone)
     instead.add_argument("--env", action="store_true",
                          help="instead, the Gymnasium environment against ALE's, step for "
