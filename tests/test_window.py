@@ -331,6 +331,44 @@ def test_in_a_real_x_server_f11_comes_back_to_the_windows_place_and_f4_stays_the
     assert panel[0][0] > 672 and panel[1] == start[1] and panel[0][0] <= 1280
 
 
+MAXIMIZED_CHILD = """
+import json, time, warnings, pygame
+from invaders.app.play import Session, open_window
+from invaders.game.world import World
+session = Session(World(seed=0), open_window(3), time.perf_counter)
+def now():
+    for _ in range(25):
+        for event in pygame.event.get():
+            session.handle(event)
+        time.sleep(0.02)
+    return [list(pygame.display.get_window_size()), list(session.target.get_size())]
+with warnings.catch_warnings():  # (pygame's Window of the display's: deprecated, not gone)
+    warnings.simplefilter("ignore", DeprecationWarning)
+    pygame.Window.from_display_module().maximize()
+seen = [now()]
+for key in (pygame.K_F4, pygame.K_F4):
+    session.handle(pygame.event.Event(pygame.KEYDOWN, key=key, mod=0, unicode="", scancode=0))
+    seen.append(now())
+print(json.dumps(seen))
+"""
+
+
+def test_in_a_real_x_server_f4_in_a_maximized_window_shares_it_with_the_panel_quietly():
+    """The window manager keeps a maximized window's size when F4 asks for another: the
+    panel shares the window, and nothing is printed (pygame warned, twice, with our
+    source line, that the size was forced)."""
+    if shutil.which("openbox") is None:
+        pytest.skip("openbox is not installed: no window manager to maximize the window")
+    with _x_server() as env:
+        result = subprocess.run([sys.executable, "-c", MAXIMIZED_CHILD], capture_output=True,
+                                text=True, timeout=120, env=env, check=False)
+    assert result.returncode == 0, result.stderr
+    assert result.stderr == ""
+    maximized, opened, closed = json.loads(result.stdout)
+    assert maximized[0][0] == 1280 and maximized[0][1] > 768  # (less the title bar)
+    assert opened == closed == maximized  # the window's own size, drawn into in full
+
+
 def test_in_a_real_x_server_a_scale_too_big_for_the_screen_opens_one_that_fits():
     """`--scale 8` on a 1280x1024 screen: a window 2,048 px tall opened with its title bar
     and score above the screen. It opens at scale 3 below the screen's top, and says so."""

@@ -63,6 +63,15 @@ def keyboard_actions(pressed) -> int:
     return int(bits)
 
 
+def _ask_window_size(size: tuple[int, int]) -> pygame.Surface:
+    """The window's surface after asking for `size`: a window manager may keep its own (a
+    window maximized or tiled), where pygame warns that the size was forced; the picture
+    is laid out in whatever size the window has."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return pygame.display.set_mode(size, pygame.RESIZABLE)
+
+
 def fit_beside_panel(w: int, h: int, screen_w: int) -> tuple[int, int]:
     """The playfield's size (w, h) made smaller, its shape kept, until it and the lab's
     panel fit across a screen `screen_w` wide."""
@@ -187,9 +196,7 @@ class Session:
             return
         if pygame.display.is_fullscreen():
             size, place = self.windowed or (self.target.get_size(), None)
-            with warnings.catch_warnings():  # X11 leaves full screen first, at full size,
-                warnings.simplefilter("ignore", RuntimeWarning)  # (pygame says it was forced)
-                pygame.display.set_mode(size, pygame.RESIZABLE)
+            _ask_window_size(size)  # X11 leaves full screen first, at full size,
             pygame.event.pump()
             if pygame.display.get_window_size() != size:  # and takes the size when asked again
                 pygame.display.set_mode(size, pygame.RESIZABLE)
@@ -202,7 +209,8 @@ class Session:
 
     def _resize_for_panel(self, opening: bool) -> None:
         """Widen the window by the panel (or narrow it back) where it stands, never past the
-        screen's width (the playfield made smaller if it must), unless it fills the screen."""
+        screen's width (the playfield made smaller if it must), unless it fills the screen;
+        a window the window manager keeps at its size (maximized) shares it with the panel."""
         if not self._own_window() or pygame.display.is_fullscreen():
             return
         w, h = self.target.get_size()
@@ -212,7 +220,7 @@ class Session:
             width = w + panel_width(h / SCREEN_H)
         else:
             width = max(SCREEN_W, w - panel_width(h / SCREEN_H))
-        self.target = pygame.display.set_mode((width, h), pygame.RESIZABLE)
+        self.target = _ask_window_size((width, h))
         pygame.display.set_window_position(place)
 
     def _follow_window(self) -> None:
