@@ -233,6 +233,21 @@ def _display_session(scale: int):
     return Session(World(seed=0), window, FakeClock())
 
 
+def test_a_window_too_big_for_the_screen_opens_smaller_saying_so_if_its_scale_was_asked(
+        capsys):
+    """The dummy driver's screen is 1024x768: the default scale, 3, would fill its height,
+    so the window opens at 2 without a word; --scale 3 asked for says so in one line."""
+    from invaders.app.play import open_window
+
+    assert open_window(None).get_size() == (448, 512)
+    assert capsys.readouterr().err == ""
+    assert open_window(3).get_size() == (448, 512)
+    assert capsys.readouterr().err == (
+        "invaders: a window at scale 3 would not fit on this 1024x768 screen: opened at "
+        "scale 2 (resize it, or F11 for the full screen)\n")
+    pygame.display.quit()
+
+
 def test_f11_fills_the_screen_and_brings_the_window_back_at_its_own_size_and_place():
     session = _display_session(2)
     place = pygame.display.get_window_position()

@@ -128,7 +128,7 @@ def _add_play(sub: argparse._SubParsersAction) -> None:
     # (--seed, --players, --ticks and --speed default to None, so that one given where it
     # would do nothing is told from one left out: _unused_play_flag.)
     play.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), help=SEED_HELP)
-    play.add_argument("--scale", type=_int_in("--scale", 1, 8), default=3,
+    play.add_argument("--scale", type=_int_in("--scale", 1, 8),  # (None: see open_window)
                       help="the window: 224x256 px times this, 1 to 8 (3 by default; at most "
                            "what fits the screen)")
     play.add_argument("--players", type=_int_in("--players", 1, 2),
@@ -364,7 +364,7 @@ def _lab_choice(args: argparse.Namespace):
 
 def cmd_play(args: argparse.Namespace) -> int:
     from invaders.app.outputs import PICTURE_SUFFIXES, REPLAY_SUFFIXES, check_output
-    from invaders.app.play import play, screenshot
+    from invaders.app.play import DEFAULT_SCALE, play, screenshot
 
     unused = _unused_play_flag(args)
     if unused is not None:
@@ -374,7 +374,8 @@ def cmd_play(args: argparse.Namespace) -> int:
     if args.screenshot:
         check_output(args.screenshot, "screenshot", PICTURE_SUFFIXES)
         return screenshot(args.screenshot, seed=seed, ticks=args.ticks or 600,
-                          scale=args.scale, overlay=args.overlay, broadphase=args.broadphase,
+                          scale=args.scale or DEFAULT_SCALE, overlay=args.overlay,
+                          broadphase=args.broadphase,
                           attract=args.attract, lab=lab, players=players)
     replay = None
     if args.replay:

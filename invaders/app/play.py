@@ -47,6 +47,7 @@ START2 = int(Action.START2)
 MAX_FPS = 240  # never draw faster than this, whatever the replay speed
 IDLE_FPS = 10  # paused or at a replay's end: wake this often, to answer keys
 SAVE_EVERY = 180  # ticks between autosaves of a recording (3 s)
+DEFAULT_SCALE = 3  # the window's, where none is asked for (and it fits on the screen)
 
 
 def keyboard_actions(pressed) -> int:
@@ -344,16 +345,18 @@ class Session:
         return f"DIFFERS FROM TICK {self.first_difference}"
 
 
-def open_window(scale: int, title: str = "invaders", lab: bool = False) -> pygame.Surface:
-    """A window at the scale asked, or at the largest that fits on the screen, saying so;
-    pygame.error if there is no display to show one (`open_display`)."""
+def open_window(scale: int | None, title: str = "invaders", lab: bool = False
+                ) -> pygame.Surface:
+    """A window at the scale asked (DEFAULT_SCALE if none), or at the largest that fits on
+    the screen, saying so if one was asked for; pygame.error if there is no display to show
+    one (`open_display`)."""
     open_display()
 
     def size_at(scale: int) -> tuple[int, int]:
         return SCREEN_W * scale + (panel_width(scale) if lab else 0), SCREEN_H * scale
 
-    fitting = fitting_scale(scale, size_at)
-    if fitting < scale:
+    fitting = fitting_scale(scale or DEFAULT_SCALE, size_at)
+    if scale is not None and fitting < scale:
         screen_w, screen_h = pygame.display.get_desktop_sizes()[0]
         print(f"invaders: a window at scale {scale} would not fit on this {screen_w}x"
               f"{screen_h} screen: opened at scale {fitting} (resize it, or F11 for the full "
@@ -480,9 +483,9 @@ class App:
         return True, drew
 
 
-def play(seed: int = 0, scale: int = 3, broadphase: str = DEFAULT_BROADPHASE, overlay: bool = False,
-         record: str | None = None, replay: Replay | None = None, speed: int = 1,
-         mute: bool = False, lab: Choice | None = None, players: int = 1) -> int:
+def play(seed: int = 0, scale: int | None = None, broadphase: str = DEFAULT_BROADPHASE,
+         overlay: bool = False, record: str | None = None, replay: Replay | None = None,
+         speed: int = 1, mute: bool = False, lab: Choice | None = None, players: int = 1) -> int:
     """Open a window: the attract cycle until Enter or 1 starts a game, 2 a game of two
     players (or a replay to watch), until Esc, the window closes or a signal.
 
