@@ -415,14 +415,17 @@ def test_bench_window_needs_a_display_and_says_so_in_one_line():
 
 
 def test_bench_window_times_both_ways_of_showing_the_window_in_a_real_x_server():
+    """Each way in a window of the size the header names: scale 8 does not fit on the
+    1280x1024 screen, and the window timed is at scale 3 (the header said scale 8)."""
     code = ("from invaders.app.windowbench import window_bench\n"
-            "print('\\n'.join(window_bench(rounds=1, seconds=1)))")
+            "print('\\n'.join(window_bench(rounds=1, seconds=1, scale=8)))")
     with _x_server() as env:
         result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                                 timeout=120, env=env, check=False)
     assert result.returncode == 0, result.stderr
     lines = result.stdout.splitlines()
     assert len(lines) == 4 and "native framebuffer" in lines[1] and "renderer" in lines[2]
+    assert lines[0].startswith("a game in a 672x768 window (scale 3), 1 rounds of 1 s ")
     assert all("frames a second" in line for line in lines[1:3])
 
 

@@ -15,6 +15,8 @@ import statistics
 import subprocess
 import sys
 
+from invaders.game.config import SCREEN_W
+
 PATHS = (("native framebuffer", "0"), ("renderer", "1"))
 
 CHILD = """
@@ -37,7 +39,7 @@ while time.perf_counter() - start < seconds:
         frames += 1
     clock.tick(60)
 wall = time.perf_counter() - start
-print(json.dumps([(time.process_time() - cpu) / wall, frames / wall]))
+print(json.dumps([(time.process_time() - cpu) / wall, frames / wall, window.get_size()]))
 """
 
 
@@ -45,7 +47,10 @@ class NoWindow(RuntimeError):
     """There is no display to open a window on."""
 
 
-def _one(acceleration: str, seconds: float, scale: int) -> tuple[float, float]:
+def _one(acceleration: str, seconds: float, scale: int
+         ) -> tuple[float, float, tuple[int, int]]:
+    """One game timed in a fresh process: CPU seconds a second, frames a second, and the
+    window's size (the scale asked for, or the largest that fits on the screen)."""
     env = {k: v for k, v in os.environ.items() if k != "SDL_VIDEODRIVER"}
     env["SDL_FRAMEBUFFER_ACCELERATION"] = acceleration
     result = subprocess.run([sys.executable, "-c", CHILD, str(seconds), str(scale)],
@@ -54,8 +59,8 @@ def _one(acceleration: str, seconds: float, scale: int) -> tuple[float, float]:
     if result.returncode != 0:
         last = (result.stderr.strip().splitlines() or ["no output"])[-1]
         raise NoWindow(f"the window could not be timed: {last}")
-    cpu, fps = json.loads(result.stdout)
-    return cpu, fps
+    cpu, fps, (width, height) = json.loads(result.stdout)
+    return cpu, fps, (width, height)
 
 
 def window_bench(rounds: int, seconds: float = 10.0, scale: int = 3) -> list[str]:
@@ -63,11 +68,14 @@ def window_bench(rounds: int, seconds: float = 10.0, scale: int = 3) -> list[str
     if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
         raise NoWindow("--window needs a display (DISPLAY or WAYLAND_DISPLAY)")
     seen: dict[str, list[tuple[float, float]]] = {name: [] for name, _ in PATHS}
+    size = (0, 0)
     for _ in range(rounds):
         for name, acceleration in PATHS:
-            seen[name].append(_one(acceleration, seconds, scale))
-    lines = [f"a game at scale {scale} in a window, {rounds} rounds of {seconds:g} s taking "
-             "turns: CPU seconds a second, median (lowest..highest round), frames a second"]
+            cpu_used, frame_rate, size = _one(acceleration, seconds, scale)
+            seen[name].append((cpu_used, frame_rate))
+    lines = [f"a game in a {size[0]}x{size[1]} window (scale {size[0] // SCREEN_W}), {rounds} "
+             f"rounds of {seconds:g} s taking turns: CPU seconds a second, median "
+             "(lowest..highest round), frames a second"]
     for name, _ in PATHS:
         cpu = [c for c, _ in seen[name]]
         fps = statistics.median(f for _, f in seen[name])
