@@ -3,7 +3,8 @@
 Where there is no display, SDL falls back without a word to a driver that shows nothing
 ('offscreen', 'dummy'): a window opened there would never be seen, so it is refused with a
 pygame.error saying why, which the caller turns into its own one line. A driver asked for
-by name (SDL_VIDEODRIVER) is taken as asked: the tests' dummy one.
+by name (SDL_VIDEODRIVER) is taken as asked: the tests' dummy one. A window is opened no
+larger than the screen holds (`fitting_scale`).
 """
 
 from __future__ import annotations
