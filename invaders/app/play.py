@@ -200,7 +200,7 @@ class Session:
             _ask_window_size(size)  # X11 leaves full screen first, at full size,
             pygame.event.pump()
             if pygame.display.get_window_size() != size:  # and takes the size when asked again
-                pygame.display.set_mode(size, pygame.RESIZABLE)
+                _ask_window_size(size)
             if place is not None:
                 pygame.display.set_window_position(place)
         else:
