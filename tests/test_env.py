@@ -12,6 +12,7 @@ import multiprocessing
 import os
 import pickle
 import random
+import re
 import select
 import signal
 import subprocess
@@ -510,10 +511,11 @@ def test_an_episode_that_cannot_be_written_is_kept_until_it_can_be(tmp_path, mon
     monkeypatch.setattr(recording, "write_new", write_new_or_fail)
     with pytest.warns(RuntimeWarning) as warned:
         env = episodes(tmp_path / "full")
+    first, second = sorted(path.name for path in (tmp_path / "room").iterdir())
     assert [str(w.message) for w in warned] == [
-        f"invaders: {n} recorded not written in {tmp_path / 'full'} (No space left on "
-        "device): kept, and written when the next episode ends or at close()"
-        for n in ("1 episode", "2 episodes")]
+        f"invaders: {n} recorded not written in {tmp_path / 'full'} ({which}: No space left "
+        "on device): kept, and written when the next episode ends or at close()"
+        for n, which in (("1 episode", first), ("2 episodes", f"{first} to {second}"))]
     with pytest.raises(OSError, match="2 episodes recorded not written") as raised:
         env.close()
     assert raised.value.errno == errno.ENOSPC
@@ -621,6 +623,7 @@ def test_games_on_workers_record_their_episodes_when_closed(tmp_path, capsys):
 
 UNCLOSED = """
 import os
+import shutil
 import signal
 import sys
 
@@ -652,6 +655,9 @@ else:
         raise KeyboardInterrupt
     if how == "failed":
         raise RuntimeError("a training script's own error")
+if sys.argv[3:] == ["gone"]:  # (a file in the folder's place: no episode can be written)
+    shutil.rmtree(folder)
+    open(folder, "w").close()
 """
 
 
@@ -674,6 +680,24 @@ def test_a_script_that_never_closes_its_environment_loses_no_episode(how, exit_c
                                               else [400])
     assert main(["replay", str(folder)]) == 0
     assert capsys.readouterr().out.count("ok ") == len(files)
+
+
+@pytest.mark.parametrize(("how", "games"), [("ended", 1), ("workers", 3), ("async", 3)])
+def test_a_script_that_never_closes_its_environment_says_each_episode_it_cannot_write(
+        how, games, tmp_path):
+    """As above, the folder gone at the script's end (a file in its place): each game's
+    episode in progress is said lost, in one warning naming its file, in whichever process
+    has the game; no traceback (a batch's drop raised its first game's OSError, printed
+    as an exception ignored, and said "kept" when nothing was)."""
+    folder = tmp_path / "episodes"
+    done = subprocess.run([sys.executable, "-c", UNCLOSED, how, str(folder), "gone"],
+                          env={**os.environ, "SDL_VIDEODRIVER": "dummy"},
+                          capture_output=True, text=True)
+    assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr
+    said = re.findall(r"RuntimeWarning: invaders: 1 episode recorded not written in "
+                      rf"{re.escape(str(folder))} \((episode-0000\d-seed-\d+\.json): Not a "
+                      r"directory\): lost with the environment", done.stderr)
+    assert len(set(said)) == len(said) == games, done.stderr
 
 
 def _sigterm_handler_after_recording(folder: str, own: bool, answers) -> None:

@@ -171,6 +171,11 @@ class Games:
         if failures:
             raise failures[0]
 
+    def let_go(self) -> None:
+        """Every game let go (`SpaceInvadersEnv.let_go`), as a batch goes unclosed."""
+        for env in self.envs:
+            env.let_go()
+
     def _note(self, i: int, env: SpaceInvadersEnv, reports: list[TickReport]
               ) -> tuple[int, ...]:
         """Game i's numbers for its row (the step's counters among them), its step's events

@@ -10,7 +10,8 @@ up to its last checkpoint, where the game's state was whole. Each file is writte
 under a name no other file has (`write_new`): a reader never sees a torn one, and none is
 written over. An episode whose file cannot be written (a full disk, a folder gone) is
 kept, with a warning, and written with the next one or at `close`, which raises if it
-still cannot be (kept while the process runs: a worker's end at close loses it). An
+still cannot be (kept while the process runs: a worker's end at close loses it); as the
+environment goes without a close that wrote it, it is lost, and a warning says so. An
 episode is recorded as the window's games are (`ReplayRecorder`), inside the limits a
 replay's reader keeps: past them (an episode without a frame limit, hours of play long),
 its recording stops, with a warning, and its file replays up to there.
@@ -32,6 +33,9 @@ from invaders.atomic import write_new
 from invaders.game.recording import ReplayRecorder
 from invaders.game.replay import MAX_FILE_BYTES
 from invaders.game.world import World
+
+# Set in a child process once SIGTERM has come (`exit_on_sigterm`): the process is ending.
+_ENDING_BY_SIGTERM = False
 
 
 class EpisodeRecording(ReplayRecorder):
@@ -84,7 +88,7 @@ class EpisodeRecorder:
         """Write the episode in progress when `owner` (the environment recording) is
         dropped, or when the program ends with it still there, unless written by then; in
         a worker process, when it is ended by SIGTERM too."""
-        on_drop(owner, self.save)
+        on_drop(owner, self.let_go)
         exit_on_sigterm()
 
     def begin(self, world: World) -> None:
@@ -138,12 +142,27 @@ class EpisodeRecorder:
 
     def close(self) -> None:
         """Save; raise the OSError if an episode still cannot be written (kept: another
-        close may write it)."""
+        close may write it), but in a process ending by SIGTERM, where none can come: let
+        go then (`let_go`)."""
+        if _ENDING_BY_SIGTERM:
+            self.let_go()
+            return
         self._end()
         failure = self._write()
         if failure is not None:
             raise OSError(failure.errno, f"{self._unwritten_said(failure)}: kept while "
                           "this process runs, for a close() once the folder can take them")
+
+    def let_go(self) -> None:
+        """Save as the environment goes without a close (dropped, or the program ending),
+        the last try: what cannot be written now is lost, and a warning says so (nothing
+        raised: no one is there to catch it)."""
+        self._end()
+        failure = self._write()
+        if failure is not None:
+            warnings.warn(f"{self._unwritten_said(failure)}: lost with the environment",
+                          RuntimeWarning, stacklevel=2)
+            self.unwritten = []
 
     def _end(self) -> bool:
         """The episode in progress ended and put to be written: whether there was one with
@@ -171,9 +190,11 @@ class EpisodeRecorder:
         return None
 
     def _unwritten_said(self, failure: OSError) -> str:
-        count = len(self.unwritten)
+        """How many, where, which files (the batch's games' say each their own), and why."""
+        names = [path.name for path, _ in self.unwritten]
+        count, which = len(names), " to ".join(dict.fromkeys((names[0], names[-1])))
         return (f"invaders: {count} episode{'s' if count > 1 else ''} recorded not written "
-                f"in {self.folder} ({failure.strerror or failure})")
+                f"in {self.folder} ({which}: {failure.strerror or failure})")
 
 
 def exit_on_sigterm() -> None:
@@ -191,6 +212,8 @@ def exit_on_sigterm() -> None:
 
 
 def _exit(signum: int, frame: object) -> None:
+    global _ENDING_BY_SIGTERM
+    _ENDING_BY_SIGTERM = True
     raise SystemExit(128 + signum)  # (as a shell reports a signal: 143)
 
 

@@ -345,6 +345,12 @@ class SpaceInvadersEnv(gym.Env):
                 self._window.close()
                 self._window = None
 
+    def let_go(self) -> None:
+        """As the environment goes without a close (dropped, or the program ending): its
+        episodes written as far as they can be, any that cannot be said lost in a warning."""
+        if self._recorder is not None:
+            self._recorder.let_go()
+
     # --- inside ---------------------------------------------------------------------------
     def _skip(self) -> int:
         if isinstance(self.frameskip, int):

@@ -82,9 +82,9 @@ class SpaceInvadersVectorEnv(VectorEnv):
             self._games = Pool(num_envs, workers, options, shape, dtype, context)
         self._rows = self._games.rows
         self._begun = False  # (reset yet)
-        # The games closed (their episodes in progress written, the workers ended) when
-        # the vector is dropped or the program ends without closing it.
-        on_drop(self, self._games.close)
+        # The games let go (their episodes in progress written, or said lost, the workers
+        # ended) when the vector is dropped or the program ends without closing it.
+        on_drop(self, self._games.let_go)
 
     @property
     def envs(self) -> list[SpaceInvadersEnv]:
