@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import errno
 import json
 import os
 import signal
@@ -233,6 +234,24 @@ def test_a_path_that_names_no_replay_is_said_and_the_others_checked(replay_file,
     assert err.splitlines() == [f"invaders: error: {typo}: no such file or folder",
                                 f"invaders: error: {empty}: no replay files (*.json) in this "
                                 "folder"]
+
+
+def test_a_folders_links_that_lead_nowhere_are_said_not_skipped(replay_file, tmp_path,
+                                                                capsys):
+    """A link to a file gone, and one round in a loop, beside a replay: each said in one
+    line (the folder's check skipped both without a word), the replay still checked."""
+    folder = tmp_path / "games"
+    folder.mkdir()
+    (folder / "game.json").write_text(replay_file.read_text())
+    (folder / "gone.json").symlink_to(tmp_path / "unplugged" / "game.json")
+    (folder / "loop.json").symlink_to("loop.json")
+    code = main(["replay", str(folder)])
+    out, err = capsys.readouterr()
+    assert code == 2 and out.startswith(f"ok {folder / 'game.json'}:")
+    assert err.splitlines() == [f"invaders: error: {folder / 'gone.json'}: no such file",
+                                f"invaders: error: {folder / 'loop.json'}: cannot read: "
+                                f"{os.strerror(errno.ELOOP)}"]
+    assert _error_of(capsys, str(folder / "loop.json")) == (2, err.splitlines()[1] + "\n")
 
 
 def test_missing_paths_empty_folders_truncated_and_invalid_files(replay_file, tmp_path,

@@ -43,14 +43,15 @@ __all__ = ["CHECKPOINT_EVERY", "FORMAT", "MAX_FILE_BYTES", "MAX_RUNS", "MAX_SWIT
 
 def replay_paths(arg: str) -> list[Path]:
     """The file named, or the *.json files of the folder named, in order; ReplayError if
-    there is none."""
+    there is none. A link that leads nowhere (or round in a loop) is kept, for its reading
+    to say so: a folder's would otherwise go unchecked without a word."""
     path = Path(arg)
     try:
-        is_dir, exists = path.is_dir(), path.exists()
+        is_dir, exists = path.is_dir(), path.exists() or path.is_symlink()
     except OSError as err:
         raise ReplayError(f"{arg[:80]}: {err.strerror}") from None
     if is_dir:
-        found = sorted(p for p in path.glob("*.json") if p.is_file())
+        found = sorted(p for p in path.glob("*.json") if not p.is_dir())
         if not found:
             raise ReplayError(f"{arg}: no replay files (*.json) in this folder")
         return found
