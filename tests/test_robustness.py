@@ -88,6 +88,25 @@ def test_a_full_disk_is_one_line_and_the_old_file_survives(capsys, tmp_path, mon
     assert not report.exists()
 
 
+def test_a_report_that_cannot_be_written_is_named_alone_and_the_recording_kept(
+        capsys, tmp_path, monkeypatch):
+    """The report's writes fail (its disk full), the recording's do not: the one line
+    names the report (it said "report or replay"), and the replay is written whole."""
+    from invaders.app.report import ReportWriter
+
+    def full(*_):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(ReportWriter, "row", full)
+    report, recording = tmp_path / "r.csv", tmp_path / "run.json"
+    err = _one_line_error(capsys, ["run", "--ticks", "90", "--report", str(report),
+                                   "--record", str(recording)])
+    assert err == (f"invaders: error: cannot write report {str(report)!r}: no space left on "
+                   "the device\n")
+    replay = load(recording)  # (the tick played before the report failed)
+    assert not report.exists() and replay.ticks == 1 and run(replay)[0].mismatch is None
+
+
 def test_an_update_that_cannot_be_written_leaves_the_replay_as_it_was(capsys, tmp_path,
                                                                       monkeypatch):
     path = tmp_path / "game.json"

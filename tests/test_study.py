@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import csv
+import errno
+import os
 from pathlib import Path
 
 import pygame
@@ -165,6 +167,24 @@ def test_bad_study_options_are_one_line(capsys, args, problem):
     assert main(args) == 2
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and problem in err
+
+
+def test_a_study_that_cannot_be_written_is_one_line(capsys, tmp_path, monkeypatch,
+                                                   serial_rows):
+    """The matrix run, its file cannot be written (the disk full: every fsync fails): one
+    line names the folder and the cause, exit 2 (an internal error, exit 3, before)."""
+    from invaders.lab import plan
+
+    def full(fd: int) -> None:
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(plan, "execute", lambda *_: serial_rows)
+    monkeypatch.setattr(os, "fsync", full)
+    out = tmp_path / "study"
+    assert main(["study", "--quick", "--out", str(out)]) == 2
+    assert capsys.readouterr().err == (f"invaders: error: cannot write the study into "
+                                       f"{str(out)!r}: no space left on the device\n")
+    assert list(out.iterdir()) == []  # (no temporary file left)
 
 
 def test_speed_is_charted_per_family_relative_to_the_fastest_on_the_same_scenes(serial_rows):

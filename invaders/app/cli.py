@@ -7,6 +7,7 @@ import argparse
 import os
 import sys
 from collections.abc import Callable, Sequence
+from contextlib import nullcontext
 from typing import NamedTuple, NoReturn
 
 from invaders import __version__
@@ -269,7 +270,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     recorder = _run_recorder(args, world, base)
     with StopSignals() as signals:
         try:
-            with writing(args.report or args.record or "", "report or replay"):
+            # (the recording's failures are its own, said by its recorder)
+            with writing(args.report, "report") if args.report else nullcontext():
                 result = run(world, _run_source(args), args.ticks, args.report, recorder,
                              stop=lambda: signals.received is not None, columns=shadow)
         finally:
@@ -559,7 +561,7 @@ def cmd_study(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise UsageError(f"--out {args.out!r} is a file, not a folder")
-    from invaders.app.outputs import check_output
+    from invaders.app.outputs import check_output, writing
 
     made = out  # the study makes the folder and any missing above it: check the first that is
     while not made.exists() and made != made.parent:
@@ -568,7 +570,7 @@ def cmd_study(args: argparse.Namespace) -> int:
     from invaders.lab.plan import study
 
     return study(out, replays, quick=args.quick, jobs=args.jobs, scheduler=args.scheduler,
-                 big=args.big)
+                 big=args.big, saving=lambda: writing(out, "the study into"))
 
 
 class Command(NamedTuple):

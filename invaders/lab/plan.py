@@ -13,6 +13,7 @@ import sys
 import time
 from collections.abc import Callable, Iterable
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -186,8 +187,10 @@ def scaling_rows(plan: Plan, rows: list[dict], budget: float) -> list[dict]:
 
 
 def study(out: Path, replays: Path | None, quick: bool = False, jobs: int = 1,
-          scheduler: str | None = None, big: bool = False) -> int:
-    """Run the study; write study.csv, scaling.csv and the charts into `out`."""
+          scheduler: str | None = None, big: bool = False,
+          saving: Callable[[], AbstractContextManager[object]] = nullcontext) -> int:
+    """Run the study; write study.csv, scaling.csv and the charts into `out`, each write
+    inside `saving()` (the command line's names a failed write's file and cause)."""
     out.mkdir(parents=True, exist_ok=True)
     recorded = sorted(replays.glob("*.json")) if replays is not None else []
     plan = make_plan(recorded, quick, big)
@@ -196,9 +199,11 @@ def study(out: Path, replays: Path | None, quick: bool = False, jobs: int = 1,
     bar = Progress(plan.cells, "study")
     rows = execute(plan, jobs, scheduler, bar.advance)
     bar.close()
-    write_csv(out / "study.csv", rows)
+    with saving():  # (the matrix kept before the scaling's timings, which take a while)
+        write_csv(out / "study.csv", rows)
     scale = scaling_rows(plan, rows, budget=2.0 if quick else 20.0)
-    write_csv(out / "scaling.csv", scale)
+    with saving():
+        write_csv(out / "scaling.csv", scale)
     for line in summary(rows, scale):
         print(line)
     try:
@@ -206,12 +211,22 @@ def study(out: Path, replays: Path | None, quick: bool = False, jobs: int = 1,
     except ImportError:
         print("charts skipped: install the [chart] extra (matplotlib) to draw them")
         return 0
+    with saving():
+        draw_charts(out, rows, scale, recorded[0] if recorded else None)
+    print(f"wrote {out / 'study.csv'}, {out / 'scaling.csv'} and "
+          f"{'three' if recorded else 'two'} charts in {out}")
+    return 0
+
+
+def draw_charts(out: Path, rows: list[dict], scale: list[dict], game: Path | None) -> None:
+    """The speed against accuracy, the counters of a recorded `game` (if one), and the
+    scaling, as PNGs in `out`."""
     from invaders.lab import charts  # (it draws with matplotlib)
 
     charts.speed_accuracy(rows, out / "speed_accuracy.png")
-    if recorded:  # the counters chart follows a recorded game
-        charts.counters(game_counters(recorded[0]), out / "counters.png",
-                        f"Pipeline counters per tick, {recorded[0].stem}")
+    if game is not None:
+        charts.counters(game_counters(game), out / "counters.png",
+                        f"Pipeline counters per tick, {game.stem}")
     series = {label: [(r["bodies"], r[key]) for r in scale if r.get(key)]
               for label, key in (("ours (broad phase chosen from the scene)", "ours_auto"),
                                  ("ours (auto: chosen by body count)", "engine_auto"),
@@ -223,9 +238,6 @@ def study(out: Path, replays: Path | None, quick: bool = False, jobs: int = 1,
                                  ("pymunk spatial hash, boxes only", "pymunk_boxes"),
                                  ("Arcade spatial hashes, boxes only", "arcade_boxes"))}
     charts.scaling(series, out / "scaling.png")
-    print(f"wrote {out / 'study.csv'}, {out / 'scaling.csv'} and "
-          f"{'three' if recorded else 'two'} charts in {out}")
-    return 0
 
 
 def game_scale(rows: list[dict]) -> list[str]:
