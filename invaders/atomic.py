@@ -113,6 +113,27 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[str]:
         raise
 
 
+def append_whole(path: str | os.PathLike[str], text: str) -> None:
+    """Append `text` (UTF-8, as it is: no newline made another) and fsync it, or leave the
+    file as it was: a write cut short (the disk full midway) is cut off again, so that a
+    later append follows the file's last whole line, where it would follow a torn one and
+    the file would no longer read. Unbuffered, so nothing is left to be flushed after the
+    cut."""
+    fd = os.open(path, os.O_WRONLY | os.O_APPEND | getattr(os, "O_BINARY", 0))
+    try:
+        size = os.fstat(fd).st_size
+        try:
+            left = memoryview(text.encode("utf-8"))
+            while left:
+                left = left[os.write(fd, left):]
+            os.fsync(fd)
+        except OSError:
+            os.ftruncate(fd, size)
+            raise
+    finally:
+        os.close(fd)
+
+
 def clean_stale(path: str | os.PathLike[str]) -> None:
     """Remove temporary files an interrupted atomic write of `path` left beside it."""
     target = Path(path)

@@ -514,7 +514,7 @@ def test_an_append_that_fails_says_how_many_ticks_the_file_keeps(tmp_path, capsy
     def no_space(*args, **kwargs):
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr(recording, "open", no_space, raising=False)
+    monkeypatch.setattr(recording, "append_whole", no_space)
     path = tmp_path / "run.json"
     assert main(["run", "--autopilot", "--ticks", "8000", "--record", str(path)]) == 2
     err = capsys.readouterr().err.splitlines()
@@ -522,6 +522,47 @@ def test_an_append_that_fails_says_how_many_ticks_the_file_keeps(tmp_path, capsy
     assert "the file keeps its first 3600 ticks" in err[0]
     replay = load(path)
     assert replay.ticks == 3600 and run(replay)[0].mismatch is None
+
+
+CUT_SHORT = """
+import os, resource, signal, sys
+from invaders.app.outputs import OutputError
+from invaders.app.recording import Recorder
+from invaders.game.world import World
+
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # (a write past the limit fails, as on a full disk)
+soft, hard = resource.getrlimit(resource.RLIMIT_FSIZE)
+world = World(seed=3)
+recorder = Recorder(world, sys.argv[1], save_every=600)
+for tick in range(1, 3001):
+    if tick == 1000:  # room for 100 bytes of the next save's 600 ticks
+        resource.setrlimit(resource.RLIMIT_FSIZE, (os.path.getsize(sys.argv[1]) + 100, hard))
+    if tick == 1500:  # room again
+        resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))
+    bits = (0, 1, 2, 4, 5, 6)[tick % 6]
+    world.step(bits)
+    try:
+        recorder.tick(bits)
+    except OutputError as failure:
+        print(failure)
+recorder.save()
+"""
+
+
+@pytest.mark.skipif(not hasattr(signal, "SIGXFSZ"), reason="a file size limit (Unix)")
+def test_an_append_cut_short_is_taken_back_so_the_next_one_follows_a_whole_line(tmp_path):
+    """The disk fills in the middle of an append (a file size limit cuts the write after
+    100 bytes), then has room again: the cut is taken back, so the next save appends
+    after the last whole line and the file replays whole; the torn line stayed before,
+    the next save's lines ran on from it, and the file no longer read."""
+    path = tmp_path / "game.json"
+    done = subprocess.run([sys.executable, "-c", CUT_SHORT, str(path)], env=ENV,
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == (f"cannot write replay {str(path)!r}: File too large; the file "
+                           "keeps its first 600 ticks, a valid replay\n")
+    replay = load(path)
+    assert replay.ticks == 3000 and run(replay)[0].mismatch is None
 
 
 class FailingInTick:

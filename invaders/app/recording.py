@@ -1,21 +1,21 @@
 """Recording a running game, and writing replay files, so that nothing recorded is lost.
 
 A recording starts by writing the header (and the tick-0 checkpoint) atomically, then only
-ever appends whole lines, each flushed and fsynced before the call returns: saving costs the
-same at tick 1,000,000 as at tick 1,000, and a crash at any moment leaves a valid replay of
-a prefix (a line cut short is ignored when read). Rewriting a whole replay (`--update`) is
+ever appends whole lines, each fsynced before the call returns (an append cut short, by a
+full disk, is cut off again: `append_whole`): saving costs the same at tick 1,000,000 as at
+tick 1,000, and a crash at any moment leaves a valid replay of a prefix (a line cut short
+is ignored when read). Rewriting a whole replay (`--update`) is
 atomic: a temporary file beside it, then a rename.
 """
 
 from __future__ import annotations
 
-import os
 import sys
 from pathlib import Path
 from typing import Protocol
 
 from invaders.app.outputs import writing
-from invaders.atomic import clean_stale, write_atomic
+from invaders.atomic import append_whole, clean_stale, write_atomic
 from invaders.game.config import GameConfig
 from invaders.game.recording import ReplayRecorder
 from invaders.game.replay import MAX_FILE_BYTES, Replay
@@ -69,10 +69,7 @@ class Recorder(ReplayRecorder):
                 write_atomic(self.path, self.file_text())
                 self._started = True
             elif unsaved:
-                with open(self.path, "a", encoding="utf-8") as handle:
-                    handle.write("".join(unsaved))
-                    handle.flush()
-                    os.fsync(handle.fileno())
+                append_whole(self.path, "".join(unsaved))
         self.unsaved = []
         self._saved_ticks = self.ticks
 
