@@ -21,6 +21,7 @@ import pytest
 from invaders.app import cli
 from invaders.app.cli import main
 from invaders.app.report import CounterTable
+from invaders.atomic import append_whole
 from invaders.engine.stats import STAT_FIELDS, CollisionStats
 from invaders.game.replay import load, run
 
@@ -387,6 +388,44 @@ def test_a_signal_ends_a_recorded_window_game_with_its_code_and_a_valid_file(
     replay = load(path)
     assert 360 < replay.ticks <= 400 and run(replay)[0].mismatch is None
     assert sum(1 for bits, n in replay.inputs if bits & 4 for _ in range(n)) > 0  # it fired
+
+
+def test_a_window_game_plays_on_through_a_full_disk_and_saves_it_all_after(
+        tmp_path, capsys, monkeypatch):
+    """The disk full from the second autosave to the fifth (every append failing), in a
+    window game on the test's clock, closed at frame 1,000: one line says so the first
+    time and the game plays on (it ended with the error, the player thrown out); the
+    saves after it write what was kept, and the file replays all 1,000 ticks."""
+    import pygame
+
+    from invaders.app import recording
+
+    now, frames, appends = [0.0], [0], []
+
+    def events():
+        frames[0] += 1
+        now[0] += 1 / 60
+        return [pygame.event.Event(pygame.QUIT)] if frames[0] == 1000 else []
+
+    def full_for_a_while(path, text):
+        appends.append(frames[0])
+        if len(appends) <= 3:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        append_whole(path, text)
+
+    on_the_tests_clock(monkeypatch, now)
+    monkeypatch.setattr(pygame.event, "get", events)
+    monkeypatch.setattr(recording, "append_whole", full_for_a_while)
+    path = tmp_path / "played.json"
+    assert main(["play", "--record", str(path), "--seed", "3"]) == 0
+    out, err = capsys.readouterr()
+    assert err == (f"invaders: cannot write replay {str(path)!r}: no space left on the "
+                   "device; the file keeps its first 180 ticks, a valid replay; play goes on, "
+                   "and what is not written is kept for the next autosave (and the last, at "
+                   "the end)\n")
+    replay = load(path)
+    assert out == f"saved {path}: {replay.ticks} ticks\n" and len(appends) == 5
+    assert replay.ticks == 999 and run(replay)[0].mismatch is None
 
 
 def test_the_temporary_name_is_as_much_longer_as_the_check_allows_for(tmp_path):

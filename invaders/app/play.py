@@ -18,7 +18,7 @@ import pygame
 from invaders.app.attract import Attract, card, demo_world
 from invaders.app.labpanel import LabControl, PanelPainter, draw_marks, panel_width
 from invaders.app.loop import FixedStepLoop
-from invaders.app.outputs import writing
+from invaders.app.outputs import OutputError, writing
 from invaders.app.recording import Recorder
 from invaders.app.render import CandidateWatch, Renderer
 from invaders.app.signals import StopSignals
@@ -483,6 +483,21 @@ class App:
         return True, drew
 
 
+def _said_once() -> Callable[[OutputError], None]:
+    """What an autosave's failure does in a window: one line, the first time, and the
+    game plays on (its lines not written are kept for the next save, the last at its end,
+    which says so again if it too fails): a player is not thrown out of a game by a full
+    disk."""
+    said: list[OutputError] = []
+
+    def say(failure: OutputError) -> None:
+        if not said:
+            print(f"invaders: {failure}; play goes on, and what is not written is kept "
+                  "for the next autosave (and the last, at the end)", file=sys.stderr)
+            said.append(failure)
+    return say
+
+
 def play(seed: int = 0, scale: int | None = None, broadphase: str = DEFAULT_BROADPHASE,
          overlay: bool = False, record: str | None = None, replay: Replay | None = None,
          speed: int = 1, mute: bool = False, lab: Choice | None = None, players: int = 1) -> int:
@@ -498,7 +513,7 @@ def play(seed: int = 0, scale: int | None = None, broadphase: str = DEFAULT_BROA
         world = replay.world(broadphase)
     else:
         world = World(seed=seed, broadphase=broadphase, players=players)
-    recorder = Recorder(world, record, SAVE_EVERY) if record else None
+    recorder = Recorder(world, record, SAVE_EVERY, on_failure=_said_once()) if record else None
     title = "invaders" if replay is None else f"invaders: replay at {speed}x"
     window = open_window(scale, title, lab is not None)
     app = App(world, window, time.perf_counter, replay, speed, recorder, overlay,

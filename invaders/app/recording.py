@@ -11,10 +11,11 @@ atomic: a temporary file beside it, then a rename.
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Protocol
 
-from invaders.app.outputs import writing
+from invaders.app.outputs import OutputError, writing
 from invaders.atomic import append_whole, clean_stale, write_atomic
 from invaders.game.config import GameConfig
 from invaders.game.recording import ReplayRecorder
@@ -33,21 +34,30 @@ class Recorder(ReplayRecorder):
     Recording to a file keeps only what the next append needs (the lines not yet written),
     so its memory stays flat however long the game; without a file it keeps the whole
     replay (`finished()`). Where recording stops at the reader's limits, one line says
-    so, and the file replays up to its last checkpoint."""
+    so, and the file replays up to its last checkpoint. An autosave that fails raises
+    (an OutputError), unless `on_failure` takes it: the lines not written are then kept
+    for the next save."""
 
     def __init__(self, world: World, path: str | Path | None = None,
                  save_every: int = 180, config: GameConfig | None = None,
-                 limit: int = MAX_FILE_BYTES) -> None:
+                 limit: int = MAX_FILE_BYTES,
+                 on_failure: Callable[[OutputError], None] | None = None) -> None:
         super().__init__(world, config, limit, keep=path is None, lines=path is not None)
         self.path = path
         self.save_every = save_every
+        self.on_failure = on_failure
         self._started = False
         self._saved_ticks = 0  # ticks the file on disk holds
 
     def tick(self, bits: int) -> None:
         super().tick(bits)
         if self.path is not None and self.world.tick % self.save_every == 0:
-            self.save()
+            try:
+                self.save()
+            except OutputError as failure:
+                if self.on_failure is None:
+                    raise
+                self.on_failure(failure)
 
     def _stop(self) -> None:
         """Said once, in one line."""
