@@ -1,4 +1,5 @@
-"""Write files so a reader never sees a torn one: a temporary file beside, then rename."""
+"""Write files so a reader never sees a torn one: a temporary file beside, then rename; and
+grow one by whole lines only, held by its writer (`GrowingFile`)."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import itertools
 import os
 import stat
 import tempfile
+import weakref
 from collections.abc import Iterator
 from pathlib import Path
 from typing import IO
@@ -51,10 +53,12 @@ def _usual_permissions(fd: int) -> None:
                    | stat.S_IWOTH) & ~umask)
 
 
-def write_atomic(path: str | os.PathLike[str], text: str) -> None:
-    """Replace `path` with `text` atomically."""
+def write_atomic(path: str | os.PathLike[str], text: str) -> tuple[int, int]:
+    """Replace `path` with `text` atomically; the file written's identity (device, inode)."""
     with atomic_writer(path) as handle:
         handle.write(text)
+        written = os.fstat(handle.fileno())
+    return written.st_dev, written.st_ino
 
 
 def write_new(path: str | os.PathLike[str], text: str) -> Path:
@@ -113,25 +117,77 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[str]:
         raise
 
 
-def append_whole(path: str | os.PathLike[str], text: str) -> None:
-    """Append `text` (UTF-8, as it is: no newline made another) and fsync it, or leave the
-    file as it was: a write cut short (the disk full midway) is cut off again, so that a
-    later append follows the file's last whole line, where it would follow a torn one and
-    the file would no longer read. Unbuffered, so nothing is left to be flushed after the
-    cut."""
-    fd = os.open(path, os.O_WRONLY | os.O_APPEND | getattr(os, "O_BINARY", 0))
-    try:
-        size = os.fstat(fd).st_size
+class GrowingFile:
+    """A file written whole under its name (atomically), then grown by appends through a
+    descriptor kept open, so that no other program's file at that name takes its lines
+    and none of its own is lost: where an append finds the name gone or another file under
+    it (a second recording of the same name, started meanwhile, or the file removed), it
+    first writes this file whole under the first free name beside (`write_new`) and goes
+    on there (`path` says where)."""
+
+    def __init__(self, path: str | os.PathLike[str], text: str) -> None:
+        self.path = Path(path)
+        self._held = [-1]  # the descriptor (in a list: the finalizer closes the current one)
+        weakref.finalize(self, _close_held, self._held)
+        self._hold(write_atomic(self.path, text), text)
+
+    def append(self, text: str) -> None:
+        """Append `text` whole, or leave the file as it was (`append_whole`)."""
+        if self._identity(self.path) != self._identity(self._held[0]):
+            self._hold(None, _read_all(self._held[0]))
+        append_whole(self._held[0], text)
+
+    def close(self) -> None:
+        _close_held(self._held)
+
+    def _hold(self, written: tuple[int, int] | None, text: str) -> None:
+        """Hold the file at `path` if it is the one `written` (its identity); else write
+        `text` under the first free name and hold that."""
+        if written is None or self._identity(self.path) != written:
+            self.path = write_new(self.path, text)
+        _close_held(self._held)
+        self._held[0] = os.open(self.path, os.O_RDWR | os.O_APPEND | getattr(os, "O_BINARY", 0))
+
+    @staticmethod
+    def _identity(file: Path | int) -> tuple[int, int] | None:
+        """A file's device and inode, by name or descriptor (None for a name gone)."""
         try:
-            left = memoryview(text.encode("utf-8"))
-            while left:
-                left = left[os.write(fd, left):]
-            os.fsync(fd)
-        except OSError:
-            os.ftruncate(fd, size)
-            raise
-    finally:
-        os.close(fd)
+            found = os.stat(file) if isinstance(file, Path) else os.fstat(file)
+        except FileNotFoundError:
+            return None
+        return found.st_dev, found.st_ino
+
+
+def _close_held(held: list[int]) -> None:
+    if held[0] >= 0:
+        os.close(held[0])
+        held[0] = -1
+
+
+def _read_all(fd: int) -> str:
+    """The whole file an open descriptor holds (appends go to its end whatever the offset)."""
+    os.lseek(fd, 0, os.SEEK_SET)
+    chunks = []
+    while chunk := os.read(fd, 1 << 20):
+        chunks.append(chunk)
+    return b"".join(chunks).decode("utf-8")
+
+
+def append_whole(fd: int, text: str) -> None:
+    """Append `text` (UTF-8, as it is: no newline made another) to the file open as `fd`
+    (for appending) and fsync it, or leave the file as it was: a write cut short (the disk
+    full midway) is cut off again, so that a later append follows the file's last whole
+    line, where it would follow a torn one and the file would no longer read. Unbuffered,
+    so nothing is left to be flushed after the cut."""
+    size = os.fstat(fd).st_size
+    try:
+        left = memoryview(text.encode("utf-8"))
+        while left:
+            left = left[os.write(fd, left):]
+        os.fsync(fd)
+    except OSError:
+        os.ftruncate(fd, size)
+        raise
 
 
 def clean_stale(path: str | os.PathLike[str]) -> None:

@@ -398,7 +398,7 @@ def test_a_window_game_plays_on_through_a_full_disk_and_saves_it_all_after(
     saves after it write what was kept, and the file replays all 1,000 ticks."""
     import pygame
 
-    from invaders.app import recording
+    from invaders import atomic
 
     now, frames, appends = [0.0], [0], []
 
@@ -407,15 +407,15 @@ def test_a_window_game_plays_on_through_a_full_disk_and_saves_it_all_after(
         now[0] += 1 / 60
         return [pygame.event.Event(pygame.QUIT)] if frames[0] == 1000 else []
 
-    def full_for_a_while(path, text):
+    def full_for_a_while(fd, text):
         appends.append(frames[0])
         if len(appends) <= 3:
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
-        append_whole(path, text)
+        append_whole(fd, text)
 
     on_the_tests_clock(monkeypatch, now)
     monkeypatch.setattr(pygame.event, "get", events)
-    monkeypatch.setattr(recording, "append_whole", full_for_a_while)
+    monkeypatch.setattr(atomic, "append_whole", full_for_a_while)
     path = tmp_path / "played.json"
     assert main(["play", "--record", str(path), "--seed", "3"]) == 0
     out, err = capsys.readouterr()
@@ -548,12 +548,12 @@ def test_an_append_that_fails_says_how_many_ticks_the_file_keeps(tmp_path, capsy
     ticks the file still holds, which replay."""
     import errno
 
-    from invaders.app import recording
+    from invaders import atomic
 
     def no_space(*args, **kwargs):
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr(recording, "append_whole", no_space)
+    monkeypatch.setattr(atomic, "append_whole", no_space)
     path = tmp_path / "run.json"
     assert main(["run", "--autopilot", "--ticks", "8000", "--record", str(path)]) == 2
     err = capsys.readouterr().err.splitlines()
@@ -602,6 +602,59 @@ def test_an_append_cut_short_is_taken_back_so_the_next_one_follows_a_whole_line(
                            "keeps its first 600 ticks, a valid replay\n")
     replay = load(path)
     assert replay.ticks == 3000 and run(replay)[0].mismatch is None
+
+
+def _recording(path: Path, seed: int):
+    from invaders.app.recording import Recorder
+    from invaders.game.world import World
+
+    world = World(seed=seed)
+    return world, Recorder(world, path, save_every=300)
+
+
+def _play(world, recorder, ticks: int) -> None:
+    for _ in range(ticks):
+        bits = (0, 1, 2, 4, 5, 6)[(world.tick * 7 + world.seed) % 6]
+        world.step(bits)
+        recorder.tick(bits)
+
+
+def test_two_recordings_of_one_name_at_once_keep_both_whole(tmp_path, capsys):
+    """A second recording under the name of one in progress (two windows, two runs, or
+    a slip of the shell's history): the first, at its next save, finds another file
+    there, says so in one line and goes on, whole, under the next free name; each file
+    replays every tick of its own game (their lines were interleaved in one file that
+    neither could read, after both had said "saved")."""
+    path = tmp_path / "game.json"
+    first, second = _recording(path, 1), _recording(path, 2)
+    _play(*first, 700)   # saved at 300 and 600
+    _play(*second, 400)  # its first save, at 300, replaces the first's file
+    _play(*first, 500)
+    _play(*second, 800)
+    for _, recorder in (first, second):
+        recorder.save()
+    moved = tmp_path / "game-2.json"
+    assert capsys.readouterr().err == (f"invaders: {path} was replaced or removed meanwhile, "
+                                       f"not by this recording: it goes on, whole, in {moved}\n")
+    assert (first[1].path, second[1].path) == (moved, path)
+    for (world, _), name in ((first, moved), (second, path)):
+        replay = load(name)
+        assert (replay.seed, replay.ticks) == (world.seed, 1200)
+        assert run(replay)[0].mismatch is None
+
+
+def test_a_recording_whose_file_is_removed_goes_on_whole_under_its_name(tmp_path, capsys):
+    """Removed mid-game, the file is written again, whole, at its next save, under the
+    same name (free again), and the game recorded on: nothing said, nothing lost."""
+    path = tmp_path / "game.json"
+    world, recorder = _recording(path, 3)
+    _play(world, recorder, 700)
+    path.unlink()
+    _play(world, recorder, 500)
+    recorder.save()
+    assert capsys.readouterr().err == ""
+    replay = load(path)  # (the next save failed: no file to append to)
+    assert replay.ticks == 1200 and run(replay)[0].mismatch is None
 
 
 class FailingInTick:

@@ -279,7 +279,8 @@ def cmd_run(args: argparse.Namespace) -> int:
                 with writing(args.record, "replay"):
                     recorder.save()
     if signals.received is not None:
-        saved = f"; saved {args.record} ({recorder.ticks} ticks)" if recorder is not None else ""
+        saved = (f"; saved {recorder.path} ({recorder.ticks} ticks)" if recorder is not None
+                 else "")
         print(f"invaders: stopped by {signals.name} at tick {world.tick}{saved}",
               file=sys.stderr)
         return signals.exit_code

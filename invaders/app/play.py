@@ -536,7 +536,7 @@ def play(seed: int = 0, scale: int | None = None, broadphase: str = DEFAULT_BROA
                 with writing(record or "", "replay"):
                     recorder.save()
             pygame.display.quit()
-    saved = f"saved {record}: {recorder.ticks} ticks" if recorder is not None else ""
+    saved = f"saved {recorder.path}: {recorder.ticks} ticks" if recorder is not None else ""
     if signals.received is not None:  # one line for the stop and what was saved
         print(f"invaders: stopped by {signals.name}" + (f"; {saved}" if saved else ""),
               file=sys.stderr)

@@ -2,7 +2,8 @@
 
 A recording starts by writing the header (and the tick-0 checkpoint) atomically, then only
 ever appends whole lines, each fsynced before the call returns (an append cut short, by a
-full disk, is cut off again: `append_whole`): saving costs the same at tick 1,000,000 as at
+full disk, is cut off again; one that finds another file at the name moves the recording,
+whole, to a free name: `GrowingFile`): saving costs the same at tick 1,000,000 as at
 tick 1,000, and a crash at any moment leaves a valid replay of a prefix (a line cut short
 is ignored when read). Rewriting a whole replay (`--update`) is
 atomic: a temporary file beside it, then a rename.
@@ -16,7 +17,7 @@ from pathlib import Path
 from typing import Protocol
 
 from invaders.app.outputs import OutputError, writing
-from invaders.atomic import append_whole, clean_stale, write_atomic
+from invaders.atomic import GrowingFile, clean_stale, write_atomic
 from invaders.game.config import GameConfig
 from invaders.game.recording import ReplayRecorder
 from invaders.game.replay import MAX_FILE_BYTES, Replay
@@ -46,7 +47,7 @@ class Recorder(ReplayRecorder):
         self.path = path
         self.save_every = save_every
         self.on_failure = on_failure
-        self._started = False
+        self._file: GrowingFile | None = None  # (from the first save)
         self._saved_ticks = 0  # ticks the file on disk holds
 
     def tick(self, bits: int) -> None:
@@ -71,17 +72,28 @@ class Recorder(ReplayRecorder):
             return
         self.finished()
         kept = (f"; the file keeps its first {self._saved_ticks} ticks, a valid replay"
-                if self._started else "")
+                if self._file is not None else "")
         unsaved = self.unsaved or []
-        with writing(self.path, "replay", kept):
-            if not self._started:
-                clean_stale(self.path)
-                write_atomic(self.path, self.file_text())
-                self._started = True
-            elif unsaved:
-                append_whole(self.path, "".join(unsaved))
+        try:
+            with writing(self.path, "replay", kept):
+                if self._file is None:
+                    clean_stale(self.path)
+                    self._file = GrowingFile(self.path, self.file_text())
+                elif unsaved:
+                    self._file.append("".join(unsaved))
+        finally:
+            self._follow()
         self.unsaved = []
         self._saved_ticks = self.ticks
+
+    def _follow(self) -> None:
+        """Where another file took the recording's name (or it was removed), the file
+        has moved, whole, to a free name: said in one line, and recorded on there."""
+        if self._file is not None and self.path is not None and (
+                self._file.path != Path(self.path)):
+            print(f"invaders: {self.path} was replaced or removed meanwhile, not by this "
+                  f"recording: it goes on, whole, in {self._file.path}", file=sys.stderr)
+            self.path = self._file.path
 
 
 def save_replay(path: str | Path, replay: Replay) -> None:
