@@ -89,6 +89,21 @@ def test_a_full_disk_is_one_line_and_the_old_file_survives(capsys, tmp_path, mon
     assert not report.exists()
 
 
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="a device that is always full")
+@pytest.mark.parametrize("buffered", [True, False])
+def test_output_to_a_full_disk_is_one_line_not_an_internal_error(buffered):
+    """`invaders run > file` on a full disk (/dev/full: every write fails so), whether
+    Python buffers its output (the failure then comes at the flush) or not: one line,
+    exit 2 (an internal error, exit 3, or Python's own lines and 120 at the exit)."""
+    env = {key: value for key, value in ENV.items() if key != "PYTHONUNBUFFERED"}
+    with open("/dev/full", "w") as full:
+        done = subprocess.run([INVADERS, "run", "--ticks", "10"], stdout=full,
+                              env=env if buffered else {**env, "PYTHONUNBUFFERED": "1"},
+                              stderr=subprocess.PIPE, text=True, timeout=60)
+    assert (done.returncode, done.stderr) == (
+        2, "invaders: error: cannot write the output: no space left on the device\n")
+
+
 def test_a_report_that_cannot_be_written_is_named_alone_and_the_recording_kept(
         capsys, tmp_path, monkeypatch):
     """The report's writes fail (its disk full), the recording's do not: the one line

@@ -4,6 +4,7 @@ usage, 3 an internal error; 128 + N when signal N stopped a run or a game."""
 from __future__ import annotations
 
 import argparse
+import errno
 import os
 import sys
 from collections.abc import Callable, Sequence
@@ -611,7 +612,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         argv = _with_command(argv)
         args = build_parser(argv[0] if argv[0] in COMMANDS else None).parse_args(argv)
-        return COMMANDS[args.command].run(args)
+        code = COMMANDS[args.command].run(args)
+        sys.stdout.flush()  # (here, where a failure is said in one line, not at the exit)
+        return code
     except (UsageError, OutputError) as err:
         print(f"invaders: error: {err}", file=sys.stderr)
         return 2
@@ -624,6 +627,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
     except Exception as err:  # the last guard: one line, never a bare traceback
+        if isinstance(err, OSError) and (_output_failed() or err.errno in FULL):
+            from invaders.app.outputs import reason
+
+            # (a named file's failures are said as OutputErrors: one unnamed is the output's,
+            # or a library's scratch file's, where the output is not buffered to tell)
+            print(f"invaders: error: cannot write the output: {reason(err)}", file=sys.stderr)
+            return 2
         if debug:
             import traceback
 
@@ -634,6 +644,20 @@ def main(argv: Sequence[str] | None = None) -> int:
               "the traceback)", file=sys.stderr)
         return 3
 
+
+FULL = (errno.ENOSPC, errno.EDQUOT)  # a write's failures that no bug of ours causes
+
+
+def _output_failed() -> bool:
+    """Whether standard output cannot take what was written to it (redirected to a full
+    disk, say); if so, it is pointed at nothing, so that Python's last flush says nothing
+    more when the program ends."""
+    try:
+        sys.stdout.flush()
+    except OSError:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return True
+    return False
 
 
 if __name__ == "__main__":

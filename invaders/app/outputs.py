@@ -95,10 +95,14 @@ def writing(path: str | os.PathLike[str], what: str, kept: str = "") -> Iterator
     try:
         yield
     except OSError as err:
-        reason = err.strerror or str(err)
-        if err.errno == errno.ENOSPC:
-            reason = "no space left on the device"
-        raise OutputError(f"cannot write {what} {str(path)!r}: {reason}{kept}") from None
+        raise OutputError(f"cannot write {what} {str(path)!r}: {reason(err)}{kept}") from None
+
+
+def reason(err: OSError) -> str:
+    """Why a write failed, in words (a full disk's as every message here says it)."""
+    if err.errno == errno.ENOSPC:
+        return "no space left on the device"
+    return err.strerror or str(err)
 
 
 REPLAY_SUFFIXES = (".json",)  # `invaders replay FOLDER` reads *.json
