@@ -738,11 +738,14 @@ def test_an_error_inside_a_tick_of_a_recorded_window_game_saves_it_up_to_its_las
 
 def test_a_platform_without_sighup_or_fchmod_runs_records_and_stops_on_a_signal(
         tmp_path, capsys, monkeypatch):
-    """Windows has no SIGHUP, and before Python 3.13 no os.fchmod: a run there still
-    records (its file written the same way, without modes to give) and Ctrl-C still stops
-    it on a whole tick (the two were read unguarded: the program could not start)."""
+    """Windows has no SIGHUP, no os.statvfs nor os.geteuid, and before Python 3.13 no
+    os.fchmod: a run there still records (its file checked and written the same way,
+    without a file system's flags, an owner or modes to read or give) and Ctrl-C still
+    stops it on a whole tick (each was read unguarded once: the program could not start,
+    or said an internal error at the check of the file to record)."""
+    for name in ("statvfs", "geteuid", "fchmod"):
+        monkeypatch.delattr(os, name)
     monkeypatch.delattr(signal, "SIGHUP")
-    monkeypatch.delattr(os, "fchmod")
     _autopilot_sends(monkeypatch, 300, signal.SIGINT)
     path = tmp_path / "run.json"
     assert main(["run", "--autopilot", "--ticks", "100000", "--record", str(path)]) == 130

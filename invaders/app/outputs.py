@@ -45,7 +45,7 @@ def check_output(path: str, what: str, suffixes: tuple[str, ...]) -> Path:
         raise OutputError(f"cannot write {what} {shown!r}: {err.strerror}") from None
     if not stat.S_ISDIR(folder_info.st_mode):
         raise OutputError(f"cannot write {what} {shown!r}: {str(folder)!r} is not a folder")
-    if os.statvfs(folder).f_flag & os.ST_RDONLY:
+    if hasattr(os, "statvfs") and os.statvfs(folder).f_flag & os.ST_RDONLY:  # (not Windows)
         raise OutputError(f"cannot write {what} {shown!r}: read-only file system")
     if not os.access(folder, os.W_OK | os.X_OK):
         raise OutputError(f"cannot write {what} {shown!r}: permission denied")
@@ -71,7 +71,9 @@ def check_output(path: str, what: str, suffixes: tuple[str, ...]) -> Path:
 
 def _sticky_and_not_ours(folder: os.stat_result, file: os.stat_result) -> bool:
     """Whether a rename over the file would fail: a sticky folder (as /tmp) lets only the
-    file's owner, the folder's owner or root replace it."""
+    file's owner, the folder's owner or root replace it (Windows has neither)."""
+    if not hasattr(os, "geteuid"):
+        return False
     uid = os.geteuid()
     return bool(folder.st_mode & stat.S_ISVTX) and uid not in (0, file.st_uid, folder.st_uid)
 
