@@ -104,6 +104,20 @@ def test_output_to_a_full_disk_is_one_line_not_an_internal_error(buffered):
         2, "invaders: error: cannot write the output: no space left on the device\n")
 
 
+def test_a_file_name_the_outputs_encoding_lacks_is_escaped_not_an_internal_error(tmp_path):
+    """A replay named in Japanese, checked with the output in an encoding without those
+    letters (ASCII here; a Windows code page, where the output goes to a file): the name
+    is printed escaped, as Python's own stderr escapes it (it was an internal error,
+    exit 3, after the check had passed)."""
+    path = tmp_path / "g\u00e4me-\u65e5\u672c.json"
+    path.write_text((ROOT / "replays" / "cannon-death.json").read_text())
+    done = subprocess.run([INVADERS, "replay", str(path)], capture_output=True, timeout=120,
+                          env={**ENV, "PYTHONIOENCODING": "ascii"})
+    assert done.returncode == 0, done.stderr
+    escaped = str(tmp_path).encode() + rb"/g\xe4me-\u65e5\u672c.json"
+    assert done.stdout.startswith(b"ok " + escaped + b": 3600 ticks")
+
+
 def test_a_report_that_cannot_be_written_is_named_alone_and_the_recording_kept(
         capsys, tmp_path, monkeypatch):
     """The report's writes fail (its disk full), the recording's do not: the one line

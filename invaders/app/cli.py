@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import errno
+import io
 import os
 import sys
 from collections.abc import Callable, Sequence
@@ -600,6 +601,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run one command; exit codes: 0 ok, 1 a check failed, 2 bad input or usage, 3 an
     internal error (one line; `--debug` anywhere on the line prints the traceback)."""
     argv = list(sys.argv[1:] if argv is None else argv)
+    for stream in (sys.stdout, sys.stderr):  # a name the output's encoding lacks, escaped
+        if isinstance(stream, io.TextIOWrapper):  # (as Python's own stderr does)
+            stream.reconfigure(errors="backslashreplace")
     debug = "--debug" in argv
     argv = [arg for arg in argv if arg != "--debug"]
     try:
