@@ -556,6 +556,44 @@ def test_a_batch_closes_every_game_when_one_cannot_write_its_episode(tmp_path, m
     assert [load(path).ticks for path in tmp_path.iterdir()] == [40, 40]
 
 
+CLOSED_WITHOUT_ROOM = """
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from invaders.env.vector import SpaceInvadersVectorEnv
+
+folder = Path(sys.argv[1])
+envs = SpaceInvadersVectorEnv(2, workers=2, obs_type="state", record=folder)
+envs.reset(seed=3)
+for _ in range(10):
+    info = envs.step(np.array([1, 2]))[4]
+folder.rmdir()  # (nothing written yet: every episode is in progress)
+folder.write_text("")
+try:
+    envs.close()
+except OSError as failure:
+    print(info["seed"][0], info["seed"][1], "kept" in str(failure))
+"""
+
+
+def test_a_batch_on_workers_closed_without_room_says_what_each_game_loses(tmp_path):
+    """The folder gone before close (a file in its place), 2 games on 2 workers: close
+    raises the caller's own game's failure (kept, for another close: lost, and said so,
+    when the program ends), and the worker's game, which ends with its worker, is said
+    lost there: one warning a game, naming its file (nothing was said of the worker's:
+    its failure went unraised behind the caller's, and the worker ended without a word)."""
+    done = subprocess.run([sys.executable, "-c", CLOSED_WITHOUT_ROOM, str(tmp_path / "e")],
+                          capture_output=True, text=True, timeout=120)
+    own, workers, kept = done.stdout.split()
+    said = re.findall(r"RuntimeWarning: invaders: 1 episode recorded not written in \S+ "
+                      r"\((episode-\d+-seed-\d+\.json): Not a directory\): lost with the "
+                      r"environment", done.stderr)
+    assert kept == "True" and sorted(said) == sorted(
+        f"episode-00001-seed-{seed}.json" for seed in (own, workers)), done.stderr
+
+
 def test_two_processes_recording_the_same_episode_keep_both(tmp_path):
     """Gymnasium's async vector, both games seeded alike: each process writes the same
     episode under the same name at the same moment; both files are kept, equal."""
