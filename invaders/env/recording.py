@@ -10,8 +10,9 @@ up to its last checkpoint, where the game's state was whole. Each file is writte
 under a name no other file has (`write_new`): a reader never sees a torn one, and none is
 written over. An episode whose file cannot be written (a full disk, a folder gone) is
 kept, with a warning, and written with the next one or at `close`, which raises if it
-still cannot be (kept while the process runs: a worker's end at close loses it); as the
-environment goes without a close that wrote it, it is lost, and a warning says so. An
+still cannot be (kept while the process runs); as the environment goes without a close
+that wrote it, or closes in a vector's worker process, which ends with it, it is lost, and
+a warning says so. An
 episode is recorded as the window's games are (`ReplayRecorder`), inside the limits a
 replay's reader keeps: past them (an episode without a frame limit, hours of play long),
 its recording stops, with a warning, and its file replays up to there.
@@ -33,9 +34,6 @@ from invaders.atomic import write_new
 from invaders.game.recording import ReplayRecorder
 from invaders.game.replay import MAX_FILE_BYTES
 from invaders.game.world import World
-
-# Set in a child process once SIGTERM has come (`exit_on_sigterm`): the process is ending.
-_ENDING_BY_SIGTERM = False
 
 
 class EpisodeRecording(ReplayRecorder):
@@ -142,9 +140,11 @@ class EpisodeRecorder:
 
     def close(self) -> None:
         """Save; raise the OSError if an episode still cannot be written (kept: another
-        close may write it), but in a process ending by SIGTERM, where none can come: let
-        go then (`let_go`)."""
-        if _ENDING_BY_SIGTERM:
+        close may write it). Not in a child process: there the environment is a vector's
+        worker's (Gymnasium's async vector's, the native batch's), which ends with its
+        close, so no other can come, and one that raised would print a traceback there:
+        the recorder lets go instead (`let_go`: what it cannot write is said lost)."""
+        if multiprocessing.parent_process() is not None:
             self.let_go()
             return
         self._end()
@@ -212,8 +212,6 @@ def exit_on_sigterm() -> None:
 
 
 def _exit(signum: int, frame: object) -> None:
-    global _ENDING_BY_SIGTERM
-    _ENDING_BY_SIGTERM = True
     raise SystemExit(128 + signum)  # (as a shell reports a signal: 143)
 
 

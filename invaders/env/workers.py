@@ -323,10 +323,7 @@ def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Spe
             elif command == "set_attr" and games is not None:
                 games.set_attr(*argument)
             elif command == "close" and games is not None:
-                try:
-                    games.close()
-                finally:  # (the worker ends: what its games could not write is said lost)
-                    games.let_go()
+                games.close()  # (what it cannot write is said lost: the worker ends)
             elif command == "let_go" and games is not None:
                 games.let_go()
         except Exception as error:  # (said to the caller, which raises it)
