@@ -169,6 +169,16 @@ def test_bad_study_options_are_one_line(capsys, args, problem):
     assert len(err.strip().splitlines()) == 1 and problem in err
 
 
+def test_an_out_folder_that_cannot_be_made_is_named_as_given(capsys, tmp_path):
+    """--out inside a file: the one line names the folder asked for (it named the
+    study.csv the check tried in the first folder that exists), before any scene runs."""
+    (tmp_path / "plain").write_text("")
+    out = tmp_path / "plain" / "study"
+    assert main(["study", "--quick", "--out", str(out)]) == 2
+    assert capsys.readouterr().err == (f"invaders: error: cannot write study {str(out)!r}: "
+                                       f"{str(tmp_path / 'plain')!r} is not a folder\n")
+
+
 def test_a_study_that_cannot_be_written_is_one_line(capsys, tmp_path, monkeypatch,
                                                    serial_rows):
     """The matrix run, its file cannot be written (the disk full: every fsync fails): one

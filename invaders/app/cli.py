@@ -569,7 +569,7 @@ def cmd_study(args: argparse.Namespace) -> int:
     made = out  # the study makes the folder and any missing above it: check the first that is
     while not made.exists() and made != made.parent:
         made = made.parent
-    check_output(str(made / "study.csv"), "study", (".csv",))
+    check_output(str(made / "study.csv"), "study", (".csv",), named=args.out)
     from invaders.lab.plan import study
 
     return study(out, replays, quick=args.quick, jobs=args.jobs, scheduler=args.scheduler,

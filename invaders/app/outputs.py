@@ -26,9 +26,11 @@ class OutputError(Exception):
     """A file that cannot be written where asked; the message names it and why."""
 
 
-def check_output(path: str, what: str, suffixes: tuple[str, ...]) -> Path:
-    """The path, if a `what` (say "replay") can be written there; else OutputError."""
-    shown = path if len(path) <= 80 else path[:77] + "..."
+def check_output(path: str, what: str, suffixes: tuple[str, ...], named: str = "") -> Path:
+    """The path, if a `what` (say "replay") can be written there; else OutputError, which
+    names `named` if given (what the user gave: a folder to be made, say), else `path`."""
+    named = named or path
+    shown = named if len(named) <= 80 else named[:77] + "..."
     if not path:
         raise OutputError(f"{what}: an empty file name")
     target = Path(path)
