@@ -17,9 +17,15 @@ from contextlib import contextmanager
 @contextmanager
 def c_stderr_quiet() -> Iterator[None]:
     """While inside, whatever the C library writes to file descriptor 2 is dropped
-    (Python's own sys.stderr is flushed first and works again after)."""
-    sys.stderr.flush()
-    saved = os.dup(2)
+    (Python's own sys.stderr is flushed first and works again after). A program without a
+    console (pythonw on Windows) has no sys.stderr and no descriptor 2: nothing to quiet."""
+    if sys.stderr is not None:
+        sys.stderr.flush()
+    try:
+        saved = os.dup(2)
+    except OSError:
+        yield
+        return
     try:
         with open(os.devnull, "wb") as null:
             os.dup2(null.fileno(), 2)

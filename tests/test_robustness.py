@@ -750,6 +750,40 @@ def test_an_error_inside_a_tick_of_a_recorded_window_game_saves_it_up_to_its_las
     assert replay.ticks == cut[0] // 60 * 60 and run(replay)[0].mismatch is None
 
 
+def test_a_program_without_a_console_plays_runs_and_records(tmp_path, monkeypatch):
+    """pythonw on Windows (the game started from a shortcut, no console) has no standard
+    output nor error (None) and no descriptor 2: a window game and a run each record and
+    end with 0. The window did not open (the quieting of SDL's chatter flushed stderr and
+    copied descriptor 2), and a run's output was flushed at its end: both said an internal
+    error, exit 3, to no one."""
+    import pygame
+
+    from invaders import quiet
+
+    real_dup, now, frames = os.dup, [0.0], [0]
+
+    def dup(fd: int) -> int:
+        if fd == 2:
+            raise OSError(errno.EBADF, os.strerror(errno.EBADF))
+        return real_dup(fd)
+
+    def events():
+        frames[0] += 1
+        now[0] += 1 / 60
+        return [pygame.event.Event(pygame.QUIT)] if frames[0] == 200 else []
+
+    monkeypatch.setattr(sys, "stdout", None)
+    monkeypatch.setattr(sys, "stderr", None)
+    monkeypatch.setattr(quiet.os, "dup", dup)
+    on_the_tests_clock(monkeypatch, now)
+    monkeypatch.setattr(pygame.event, "get", events)
+    played, ran = tmp_path / "played.json", tmp_path / "run.json"
+    assert main(["play", "--record", str(played)]) == 0
+    assert main(["run", "--autopilot", "--ticks", "300", "--record", str(ran)]) == 0
+    assert [load(path).ticks for path in (played, ran)] == [199, 300]
+    assert all(run(load(path))[0].mismatch is None for path in (played, ran))
+
+
 def test_a_platform_without_sighup_or_fchmod_runs_records_and_stops_on_a_signal(
         tmp_path, capsys, monkeypatch):
     """Windows has no SIGHUP, no os.statvfs nor os.geteuid, and before Python 3.13 no

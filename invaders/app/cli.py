@@ -4,12 +4,12 @@ usage, 3 an internal error; 128 + N when signal N stopped a run or a game."""
 from __future__ import annotations
 
 import argparse
+import contextlib
 import errno
 import io
 import os
 import sys
 from collections.abc import Callable, Sequence
-from contextlib import nullcontext
 from typing import NamedTuple, NoReturn
 
 from invaders import __version__
@@ -273,7 +273,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     with StopSignals() as signals:
         try:
             # (the recording's failures are its own, said by its recorder)
-            with writing(args.report, "report") if args.report else nullcontext():
+            with writing(args.report, "report") if args.report else contextlib.nullcontext():
                 result = run(world, _run_source(args), args.ticks, args.report, recorder,
                              stop=lambda: signals.received is not None, columns=shadow)
         finally:
@@ -617,7 +617,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         argv = _with_command(argv)
         args = build_parser(argv[0] if argv[0] in COMMANDS else None).parse_args(argv)
         code = COMMANDS[args.command].run(args)
-        sys.stdout.flush()  # (here, where a failure is said in one line, not at the exit)
+        if sys.stdout is not None:  # (None without a console: pythonw on Windows)
+            sys.stdout.flush()  # (here, where a failure is said in one line, not at the exit)
         return code
     except (UsageError, OutputError) as err:
         print(f"invaders: error: {err}", file=sys.stderr)
@@ -657,9 +658,11 @@ def _output_failed() -> bool:
     disk, say); if so, it is pointed at nothing, so that Python's last flush says nothing
     more when the program ends."""
     try:
-        sys.stdout.flush()
+        if sys.stdout is not None:
+            sys.stdout.flush()
     except OSError:
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        with contextlib.suppress(OSError, ValueError):  # (a stream with no descriptor)
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return True
     return False
 

@@ -80,7 +80,7 @@ class Progress:
         self.done = 0
         self.label = label
         self.start = time.perf_counter()
-        self.tty = sys.stderr.isatty()
+        self.tty = sys.stderr is not None and sys.stderr.isatty()  # (None: pythonw's)
 
     def advance(self, n: int, what: str) -> None:
         self.done += n
