@@ -51,6 +51,18 @@ from tests.helpers import infos_alike, vector_answers_alike
 ENV_ID = "invaders/SpaceInvaders-v0"
 
 
+def test_render_without_a_render_mode_warns_as_gymnasiums_own_environments_do():
+    """Gymnasium's own environments (CartPole's, say) warn, in these words, and give
+    nothing; ours gave nothing without a word (ALE's raises)."""
+    env = gymnasium.make(ENV_ID, obs_type="state")
+    env.reset(seed=1)
+    said = ("You are calling render method without specifying any render mode. You can "
+            f'specify the render_mode at initialization, e.g. gym.make("{ENV_ID}", '
+            'render_mode="rgb_array")')
+    with pytest.warns(UserWarning, match=re.escape(said)):
+        assert env.render() is None
+
+
 @pytest.mark.parametrize("options", [{"obs_type": "rgb"}, {"obs_type": "grayscale"},
                                      {"obs_type": "state"},
                                      {"obs_type": "grayscale", "resize": (84, 84), "stack": 4}],

@@ -321,8 +321,15 @@ class SpaceInvadersEnv(gym.Env):
             self._draws.setstate(state.draws)
 
     def render(self) -> np.ndarray | None:
-        """The RGB picture (rgb_array), or the picture shown in a window (human)."""
-        if self.world is None or self.render_mode is None:
+        """The RGB picture (rgb_array), or the picture shown in a window (human); without
+        a render mode, a warning, in the words of Gymnasium's own environments."""
+        if self.render_mode is None:
+            made = self.spec.id if self.spec is not None else "invaders/SpaceInvaders-v0"
+            gym.logger.warn("You are calling render method without specifying any render "
+                            "mode. You can specify the render_mode at initialization, "
+                            f'e.g. gym.make("{made}", render_mode="rgb_array")')
+            return None
+        if self.world is None:
             return None
         if self.obs_type == "rgb":
             picture = self._pixels.observe(self.world)
