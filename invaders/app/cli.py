@@ -627,9 +627,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("invaders: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:  # the reader went away (| head): stop quietly
-        import os
-
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        _output_to_nothing()
         return 0
     except Exception as err:  # the last guard: one line, never a bare traceback
         if isinstance(err, OSError) and (_output_failed() or err.errno in FULL):
@@ -661,10 +659,16 @@ def _output_failed() -> bool:
         if sys.stdout is not None:
             sys.stdout.flush()
     except OSError:
-        with contextlib.suppress(OSError, ValueError):  # (a stream with no descriptor)
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        _output_to_nothing()
         return True
     return False
+
+
+def _output_to_nothing() -> None:
+    """Standard output pointed at nothing, so that what is left in its buffer goes there
+    when Python flushes it at the program's end (a reader gone, a disk full)."""
+    with contextlib.suppress(OSError, ValueError):  # (a stream with no descriptor)
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
 
 
 if __name__ == "__main__":
