@@ -89,6 +89,22 @@ def test_a_full_disk_is_one_line_and_the_old_file_survives(capsys, tmp_path, mon
     assert not report.exists()
 
 
+@pytest.mark.parametrize("buffered", [True, False])
+def test_a_reader_gone_ends_the_output_quietly(buffered):
+    """`invaders run | head -1`, head gone before the summary is written (a pipe whose
+    reading end is closed), Python's output buffered or not: exit 0, and not a word."""
+    env = {key: value for key, value in ENV.items() if key != "PYTHONUNBUFFERED"}
+    reading, writing = os.pipe()
+    os.close(reading)
+    try:
+        done = subprocess.run([INVADERS, "run", "--ticks", "10"], stdout=writing,
+                              env=env if buffered else {**env, "PYTHONUNBUFFERED": "1"},
+                              stderr=subprocess.PIPE, timeout=60)
+    finally:
+        os.close(writing)
+    assert (done.returncode, done.stderr) == (0, b"")
+
+
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="a device that is always full")
 @pytest.mark.parametrize("buffered", [True, False])
 def test_output_to_a_full_disk_is_one_line_not_an_internal_error(buffered):
