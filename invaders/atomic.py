@@ -137,9 +137,6 @@ class GrowingFile:
             self._hold(None, _read_all(self._held[0]))
         append_whole(self._held[0], text)
 
-    def close(self) -> None:
-        _close_held(self._held)
-
     def _hold(self, written: tuple[int, int] | None, text: str) -> None:
         """Hold the file at `path` if it is the one `written` (its identity); else write
         `text` under the first free name and hold that."""

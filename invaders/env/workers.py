@@ -200,21 +200,21 @@ class Pool:
     def close(self) -> None:
         """Every game closed (an episode being recorded is written); the workers end. A
         worker that has ended already is let be (its failure was raised when it showed)."""
-        self._end("close", self._here.close)
+        self._end(self._here.close)
 
     def let_go(self) -> None:
-        """As `close`, as the batch goes without one (dropped, or the program ending): each
-        game let go (`Games.let_go`: an episode that cannot be written is said lost, in
-        the process that has it, and nothing is raised)."""
-        self._end("let_go", self._here.let_go)
+        """As `close`, as the batch goes without one (dropped, or the program ending): the
+        caller's games let go (`Games.let_go`: nothing raised), the workers' closed (which
+        in a worker lets them go: `EpisodeRecorder.close`)."""
+        self._end(self._here.let_go)
 
-    def _end(self, command: str, own: Callable[[], None]) -> None:
+    def _end(self, own: Callable[[], None]) -> None:
         self._closed = True
         if not self._workers:
             return
         try:
             self._workers = [worker for worker in self._workers if worker.process.is_alive()]
-            self._ask(command, [None] * len(self._workers), own)
+            self._ask("close", [None] * len(self._workers), own)
         except WorkerEnded:
             pass  # (one ended meanwhile; a game's failure to close is raised)
         finally:
@@ -295,7 +295,7 @@ def _message(command: str, argument: Any) -> bytes:
 def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Specs,
           start: int, stop: int, options: dict[str, Any]) -> None:
     """A worker: its share of the games, stepped each time it is told to go, until told to
-    close (or let go), or until the caller's process is gone (killed: no close will come),
+    close, or until the caller's process is gone (killed: no close will come),
     when it lets its games go itself (their episodes in progress written, or said lost) and
     ends. Ctrl-C is the caller's to handle (it closes the workers)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -324,8 +324,6 @@ def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Spe
                 games.set_attr(*argument)
             elif command == "close" and games is not None:
                 games.close()  # (what it cannot write is said lost: the worker ends)
-            elif command == "let_go" and games is not None:
-                games.let_go()
         except Exception as error:  # (said to the caller, which raises it)
             conn.send(f"{type(error).__name__}: {error}")
         done.release()
@@ -334,5 +332,5 @@ def _work(conn: Connection, go: Any, done: Any, raws: dict[str, Any], specs: Spe
                        for i, events in spilled.items()})
         if results is not None:  # (after the answer too: the caller takes them)
             conn.send_bytes(results)
-        if command in ("close", "let_go"):
+        if command == "close":
             return
