@@ -225,14 +225,19 @@ def test_the_bare_step_loop_and_ale_share_one_input_cycle_that_plays_the_game():
 
 
 @pytest.mark.parametrize("words, problem", [
-    (["play", "--record", ""], "--record: an empty file name"),
-    (["play", "--replay", " "], "--replay: an empty file name"),
-    (["play", "--screenshot", ""], "--screenshot: an empty file name"),
-    (["run", "--record", ""], "--record: an empty file name"),
-    (["replay", ""], "PATH: an empty file name"),
-    (["study", "--out", ""], "--out: an empty file name"),
-    (["run", "--ticks", "9" * 5000], "--ticks must be between 1 and"),
-    (["run", "--seed", "x" * 300], "--seed must be a whole number, not 'xxxxxxxx"),
+    (["play", "--record", ""], "argument --record: an empty name"),
+    (["play", "--replay", " "], "argument --replay: an empty name"),
+    (["play", "--screenshot", ""], "argument --screenshot: an empty name"),
+    (["run", "--record", ""], "argument --record: an empty name"),
+    (["run", "--report", ""], "argument --report: an empty name"),
+    (["replay", ""], "argument PATH: an empty name"),
+    (["study", "--out", ""], "argument --out: an empty name"),
+    # (an empty folder of replays was the current folder; an empty scheduler, no scheduler
+    # until the study asked Dask for one: exit 3)
+    (["study", "--replays", ""], "argument --replays: an empty name"),
+    (["study", "--scheduler", ""], "argument --scheduler: an empty name"),
+    (["run", "--ticks", "9" * 5000], "argument --ticks: must be between 1 and"),
+    (["run", "--seed", "x" * 300], "argument --seed: must be a whole number, not 'xxxxxxxx"),
 ])
 def test_empty_names_and_huge_values_are_refused_in_one_short_line(words, problem, capsys):
     assert main(words) == 2

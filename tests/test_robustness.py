@@ -39,7 +39,7 @@ def _one_line_error(capsys, args: list[str]) -> str:
 
 
 @pytest.mark.parametrize("target, words", [
-    ("", "an empty file name"),
+    ("", "argument --record: an empty name"),
     ("missing/game.json", "no such folder"),
     ("/dev/null", "not a regular file"),
     ("x" * 300 + ".json", "longer than 241 bytes"),

@@ -33,20 +33,21 @@ class Parser(argparse.ArgumentParser):
         raise UsageError(message)
 
 
-def _int_in(name: str, low: int, high: int):
+def _int_in(low: int, high: int):
+    """A whole number in [low, high] (argparse names the option: "argument --ticks: ...")."""
     def parse(text: str) -> int:
         digits = text.strip().lstrip("+-")
         if digits.isdigit() and len(digits) > 40:  # (no range here is that long)
             raise argparse.ArgumentTypeError(
-                f"{name} must be between {low} and {high}, not {_quoted(text)}")
+                f"must be between {low} and {high}, not {_quoted(text)}")
         try:  # decimal first (010 is ten), then 0x.. and 0b.. forms
             value = int(text, 10) if digits.isdigit() else int(text, 0)
         except ValueError:
             raise argparse.ArgumentTypeError(
-                f"{name} must be a whole number, not {_quoted(text)}") from None
+                f"must be a whole number, not {_quoted(text)}") from None
         if not low <= value <= high:
             raise argparse.ArgumentTypeError(
-                f"{name} must be between {low} and {high}, not {_quoted(text)}")
+                f"must be between {low} and {high}, not {_quoted(text)}")
         return value
 
     return parse
@@ -57,14 +58,12 @@ def _quoted(text: str, most: int = 24) -> str:
     return repr(text) if len(text) <= most else f"{text[:most]!r}... ({len(text):,} characters)"
 
 
-def _named(name: str):
-    """A file or folder name that is not empty (an empty one was once taken as no option)."""
-    def parse(text: str) -> str:
-        if not text.strip():
-            raise argparse.ArgumentTypeError(f"{name}: an empty file name")
-        return text
-
-    return parse
+def _named(text: str) -> str:
+    """A name (of a file, a folder or an address) that is not empty: an empty one was
+    once taken as no option, or as the current folder."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("an empty name")
+    return text
 
 
 def _same_file(a: str, b: str) -> bool:
@@ -130,29 +129,29 @@ def _add_play(sub: argparse._SubParsersAction) -> None:
     play = sub.add_parser("play", help="play in a window")
     # (--seed, --players, --ticks and --speed default to None, so that one given where it
     # would do nothing is told from one left out: _unused_play_flag.)
-    play.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), help=SEED_HELP)
-    play.add_argument("--scale", type=_int_in("--scale", 1, 8),  # (None: see open_window)
+    play.add_argument("--seed", type=_int_in(0, 2**63 - 1), help=SEED_HELP)
+    play.add_argument("--scale", type=_int_in(1, 8),  # (None: see open_window)
                       help="the window: 224x256 px times this, 1 to 8 (3 by default; at most "
                            "what fits the screen)")
-    play.add_argument("--players", type=_int_in("--players", 1, 2),
+    play.add_argument("--players", type=_int_in(1, 2),
                       help="the game a recording or a screenshot starts with (in the "
                            "window, 1 or 2 starts either)")
     play.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE,
                       help=BROADPHASE_HELP)
-    play.add_argument("--screenshot", metavar="FILE", type=_named("--screenshot"),
+    play.add_argument("--screenshot", metavar="FILE", type=_named,
                       help="run headless for --ticks with the autopilot, save the window as PNG")
-    play.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS),
+    play.add_argument("--ticks", type=_int_in(1, MAX_TICKS),
                       help="with --screenshot: how long it plays (600 ticks by default)")
     play.add_argument("--overlay", action="store_true", help="start with the debug overlay on")
     play.add_argument("--mute", action="store_true", help="start with the sound off (M toggles)")
     play.add_argument("--attract", choices=("title", "table", "pull", "insert"),
                       help="with --screenshot: save that moment of the attract cycle instead "
                            "(pull: the alien pulling PLAY's Y; insert: INSERT CCOIN)")
-    play.add_argument("--record", metavar="FILE", type=_named("--record"),
+    play.add_argument("--record", metavar="FILE", type=_named,
                       help="record the game as a replay (JSON)")
-    play.add_argument("--replay", metavar="FILE", type=_named("--replay"),
+    play.add_argument("--replay", metavar="FILE", type=_named,
                       help="watch a replay instead of playing")
-    play.add_argument("--speed", type=_int_in("--speed", 1, 64),
+    play.add_argument("--speed", type=_int_in(1, 64),
                       help="with --replay: its speed multiplier")
     _lab_arguments(play).add_argument(
         "--lab", action="store_true",
@@ -161,11 +160,11 @@ def _add_play(sub: argparse._SubParsersAction) -> None:
 
 def _add_run(sub: argparse._SubParsersAction) -> None:
     run = sub.add_parser("run", help="run headless and print a summary and the state hash")
-    run.add_argument("--ticks", type=_int_in("--ticks", 1, MAX_TICKS), default=3600,
+    run.add_argument("--ticks", type=_int_in(1, MAX_TICKS), default=3600,
                      help="how long it runs, 60 ticks a second of game time (3600 by default)")
-    run.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1), default=0,
+    run.add_argument("--seed", type=_int_in(0, 2**63 - 1), default=0,
                      help=SEED_HELP)
-    run.add_argument("--players", type=_int_in("--players", 1, 2), default=1,
+    run.add_argument("--players", type=_int_in(1, 2), default=1,
                      help="two take turns at each death, each with their own rack and shields "
                           "(1 by default)")
     run.add_argument("--autopilot", nargs="?", const="hunter", choices=sorted(STYLES),
@@ -175,20 +174,21 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                          for name in STYLES))
     run.add_argument("--broadphase", choices=BROADPHASES, default=DEFAULT_BROADPHASE,
                      help=BROADPHASE_HELP)
-    run.add_argument("--cell", type=_int_in("--cell", 1, 1024),  # (None: see _run_world)
+    run.add_argument("--cell", type=_int_in(1, 1024),  # (None: see _run_world)
                      help="cell size in px of the grid and of the broad phases built on its "
                           f"cells ({DEFAULT_CELL} by default)")
-    run.add_argument("--report", metavar="FILE", help="per-tick counters, .csv or .jsonl")
+    run.add_argument("--report", metavar="FILE", type=_named,
+                     help="per-tick counters, .csv or .jsonl")
     lab = _lab_arguments(run)
     lab.add_argument("--shadow", action="store_true",
                      help="score every tick's contacts against the exact oracle")
-    run.add_argument("--record", metavar="FILE", type=_named("--record"),
+    run.add_argument("--record", metavar="FILE", type=_named,
                      help="save the run as a replay (JSON)")
 
 
 def _add_replay(sub: argparse._SubParsersAction) -> None:
     check = sub.add_parser("replay", help="run replays headless and check their checkpoints")
-    check.add_argument("paths", nargs="+", metavar="PATH", type=_named("PATH"),
+    check.add_argument("paths", nargs="+", metavar="PATH", type=_named,
                        help="replay files or folders")
     check.add_argument("--update", action="store_true",
                        help="rewrite the expected checkpoints (after an intended rule change)")
@@ -202,13 +202,13 @@ def _add_study(sub: argparse._SubParsersAction) -> None:
     study.add_argument("--big", action="store_true",
                        help="also a storm of 30,000 bodies in the scaling chart (minutes more)")
     where = study.add_mutually_exclusive_group()  # (a cluster has its own workers)
-    where.add_argument("--jobs", type=_int_in("--jobs", 1, 64), default=1,
+    where.add_argument("--jobs", type=_int_in(1, 64), default=1,
                        help="run scenes in this many processes (1 by default)")
-    where.add_argument("--scheduler", metavar="ADDRESS",
+    where.add_argument("--scheduler", metavar="ADDRESS", type=_named,
                        help="run scenes on a Dask cluster (the [study] extra)")
-    study.add_argument("--out", metavar="FOLDER", default="study", type=_named("--out"),
+    study.add_argument("--out", metavar="FOLDER", default="study", type=_named,
                        help="where study.csv, scaling.csv and the charts go (study by default)")
-    study.add_argument("--replays", metavar="FOLDER", default=None,
+    study.add_argument("--replays", metavar="FOLDER", default=None, type=_named,
                        help="the replays to study (*.json)")
 
 
@@ -216,9 +216,9 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     bench = sub.add_parser("bench", help="time the pipeline against references, as ratios")
     # (--ticks and --seed default to None, so that one given to a bench that does not play
     # the game is told from one left out: _only_for_the_full_bench.)
-    bench.add_argument("--ticks", type=_int_in("--ticks", 60, MAX_TICKS),
+    bench.add_argument("--ticks", type=_int_in(60, MAX_TICKS),
                        help="the game the bench plays (3600 ticks by default)")
-    bench.add_argument("--seed", type=_int_in("--seed", 0, 2**63 - 1),
+    bench.add_argument("--seed", type=_int_in(0, 2**63 - 1),
                        help="its seed (7 by default)")
     bench.add_argument("--ale", action="store_true",
                        help="also time the Arcade Learning Environment's emulated Space "
@@ -227,10 +227,10 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     bench.add_argument("--big", action="store_true",
                        help="also time storms of 1,000 and 10,000 bodies: the grid, the numpy "
                             "broad phase, the automatic choice and pymunk")
-    bench.add_argument("--largest", type=_int_in("--largest", 1, 2000), metavar="N",
+    bench.add_argument("--largest", type=_int_in(1, 2000), metavar="N",
                        help="section 5's largest group size, sprites a side (default 1,000; "
                             "2,000 with --big)")
-    bench.add_argument("--rounds", type=_int_in("--rounds", 3, 100), default=10,
+    bench.add_argument("--rounds", type=_int_in(3, 100), default=10,
                        help="interleaved rounds, 3 to 100 (10 by default); figures are medians "
                             "over them")
     instead = bench.add_mutually_exclusive_group()  # (one at a time: each runs alone)
@@ -559,7 +559,7 @@ def cmd_study(args: argparse.Namespace) -> int:
         print("study: no ./replays folder here: studying the storms only "
               "(--replays FOLDER adds recorded games)")
         replays = None
-    if args.scheduler:
+    if args.scheduler is not None:
         _reach_scheduler(args.scheduler)
     out = Path(args.out)
     if out.exists() and not out.is_dir():
