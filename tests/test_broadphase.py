@@ -132,6 +132,31 @@ def test_every_broad_phase_pairs_a_kind_with_itself_once_and_never_a_body_with_i
 
 
 @pytest.mark.parametrize("make", [Grid, CellRects, SortAndSweep, NumpyGrid, Adaptive])
+@pytest.mark.parametrize("far", [2**30 - 5, 2**31 - 6, -(2**31), 2**31 + 5, 2**40, -(2**40),
+                                 2**62])
+def test_every_broad_phase_meets_bodies_far_out_as_brute_force_does(make, far):
+    """A block that moved onto another, and a third apart, far out on both axes: the
+    contact is brute force's. A pygame Rect holds 32 bits and sums them so: the cell
+    rects met nothing where a block's cells crossed 2**31 - 1 px, where a sprite's own
+    rect still stands, and cut bodies past it to 32 bits (found by this test)."""
+    from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
+    from invaders.engine.store import BodyStore
+
+    block = art.mask_of(("########",) * 8)
+    rules = RuleTable((PairRule(1, 2, Shape.MASK, Shape.MASK, Motion.SWEPT),))
+    store = BodyStore((1, 2))
+    mover = Body(store.new_id(), 1, far - 40, far, block)
+    for body in (mover, Body(store.new_id(), 2, far + 3, far + 2, block),
+                 Body(store.new_id(), 2, far + 100, far - 100, block)):
+        store.add(body)
+    store.tick = 1
+    store.move(mover, far, far)  # (swept: from 40 px to the left)
+    contacts = Detector(make(), rules).detect(store)[0]
+    assert contacts == Detector(Brute(), rules).detect(store)[0]
+    assert [(contact.a_id, contact.b_id) for contact in contacts] == [(1, 2)]
+
+
+@pytest.mark.parametrize("make", [Grid, CellRects, SortAndSweep, NumpyGrid, Adaptive])
 def test_bodies_that_crossed_a_zone_and_stopped_outside_it_are_out_of_it(make):
     """Two bodies cross a zone in one tick and land on each other outside it: they meet
     in that tick (the zone holds their motion), and in the next, at rest outside, they

@@ -33,6 +33,18 @@ Ready = tuple[PairRule, Sequence[Body], Sequence[Body], int, int, list[pygame.Re
               list[pygame.Rect]]
 
 
+# A pygame Rect holds 32-bit numbers and sums them so (x + w wraps past 2**31 - 1, and
+# larger numbers are cut to 32 bits): its edges are kept within +-EDGE px.
+EDGE = 2**30 - 1
+
+
+def held(start: int, end: int) -> tuple[int, int]:
+    """A span's edges (start <= end) held within +-EDGE: one past it stands at it, a pixel
+    wide. Spans that overlapped still overlap (held, start < end stays so); spans apart
+    may come to overlap, which costs a candidate, never a contact."""
+    return min(max(start, -EDGE), EDGE - 1), min(max(end, 1 - EDGE), EDGE)
+
+
 class CellRects(BroadPhase):
     """Per kind, its live bodies in id order and beside them their cells' rects."""
 
@@ -105,6 +117,10 @@ class CellRects(BroadPhase):
             fy0 = y0 // c * c
             fx1 = -(-x1 // c) * c
             fy1 = -(-y1 // c) * c
+            body.fence = (fx0, fy0, fx1, fy1) if fenced else NOWHERE
+            if not (-EDGE <= fx0 <= fx1 <= EDGE and -EDGE <= fy0 <= fy1 <= EDGE):
+                fx0, fx1 = held(fx0, fx1)
+                fy0, fy1 = held(fy0, fy1)
             if rect is None:
                 self._add(body, pygame.Rect(fx0, fy0, fx1 - fx0, fy1 - fy0))
             else:  # (reported: it left its fence, its old cells, or changed its size)
@@ -112,7 +128,6 @@ class CellRects(BroadPhase):
                 bound = bounds[body.kind]
                 if bound is not None:  # grown, not made again: a box round them all will do
                     bound.union_ip(rect)
-            body.fence = (fx0, fy0, fx1, fy1) if fenced else NOWHERE
         buffer.clear()
 
     def _add(self, body: Body, rect: pygame.Rect) -> None:
