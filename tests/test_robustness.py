@@ -107,13 +107,16 @@ def test_a_reader_gone_ends_the_output_quietly(buffered):
 
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="a device that is always full")
 @pytest.mark.parametrize("buffered", [True, False])
-def test_output_to_a_full_disk_is_one_line_not_an_internal_error(buffered):
+@pytest.mark.parametrize("words", [["run", "--ticks", "10"], ["--help"], ["run", "--help"],
+                                   ["--version"]])
+def test_output_to_a_full_disk_is_one_line_not_an_internal_error(buffered, words):
     """`invaders run > file` on a full disk (/dev/full: every write fails so), whether
     Python buffers its output (the failure then comes at the flush) or not: one line,
-    exit 2 (an internal error, exit 3, or Python's own lines and 120 at the exit)."""
+    exit 2 (an internal error, exit 3, or Python's own lines and 120 at the exit). Help
+    and the version too (argparse dropped the error: exit 0 unbuffered, 120 buffered)."""
     env = {key: value for key, value in ENV.items() if key != "PYTHONUNBUFFERED"}
     with open("/dev/full", "w") as full:
-        done = subprocess.run([INVADERS, "run", "--ticks", "10"], stdout=full,
+        done = subprocess.run([INVADERS, *words], stdout=full,
                               env=env if buffered else {**env, "PYTHONUNBUFFERED": "1"},
                               stderr=subprocess.PIPE, text=True, timeout=60)
     assert (done.returncode, done.stderr) == (

@@ -10,7 +10,7 @@ import io
 import os
 import sys
 from collections.abc import Callable, Sequence
-from typing import NamedTuple, NoReturn
+from typing import Any, NamedTuple, NoReturn
 
 from invaders import __version__
 from invaders.engine.adaptive import BROADPHASES, COMPILED, DEFAULT_BROADPHASE
@@ -27,10 +27,22 @@ class UsageError(Exception):
 
 
 class Parser(argparse.ArgumentParser):
-    """argparse, but a usage error is one line naming the problem, not a usage block."""
+    """argparse, but a usage error is one line naming the problem, not a usage block, and
+    help or the version that cannot be written is said as any output is (`main`)."""
 
     def error(self, message: str) -> NoReturn:
         raise UsageError(message)
+
+    def _print_message(self, message: str, file: Any = None) -> None:
+        # (argparse's one writer, for help, usage and the version; its own drops the error)
+        stream = file if file is not None else sys.stderr
+        if message and stream is not None:  # (None without a console: pythonw)
+            stream.write(message)
+
+    def exit(self, status: int = 0, message: str | None = None) -> NoReturn:
+        if sys.stdout is not None:  # (the help written: flushed where a failure is said)
+            sys.stdout.flush()
+        super().exit(status, message)
 
 
 def _int_in(low: int, high: int):
