@@ -6,6 +6,7 @@ place, every write failure one line, special files refused, an internal error on
 from __future__ import annotations
 
 import errno
+import io
 import os
 import random
 import signal
@@ -121,6 +122,23 @@ def test_output_to_a_full_disk_is_one_line_not_an_internal_error(buffered, words
                               stderr=subprocess.PIPE, text=True, timeout=60)
     assert (done.returncode, done.stderr) == (
         2, "invaders: error: cannot write the output: no space left on the device\n")
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="a device that is always full")
+@pytest.mark.parametrize("buffered", [True, False])
+@pytest.mark.parametrize("words, code", [(["run", "--ticks", "x"], 2),
+                                         (["replay", "missing.json"], 2),
+                                         (["run", "--ticks", "5"], 0)])
+def test_errors_to_a_full_disk_keep_the_exit_code(buffered, words, code, tmp_path):
+    """`invaders ... 2> log` with the log's disk full: the error line cannot be written,
+    and the exit code still says what happened (it was 1, as if a check had failed, with
+    Python's error output unbuffered, and 120 with it buffered)."""
+    env = {key: value for key, value in ENV.items() if key != "PYTHONUNBUFFERED"}
+    with open("/dev/full", "w") as full:
+        done = subprocess.run([INVADERS, *words], stderr=full, stdout=subprocess.DEVNULL,
+                              env=env if buffered else {**env, "PYTHONUNBUFFERED": "1"},
+                              cwd=tmp_path, timeout=60)
+    assert done.returncode == code
 
 
 def test_a_file_name_the_outputs_encoding_lacks_is_escaped_not_an_internal_error(tmp_path):
@@ -438,12 +456,22 @@ def test_a_signal_ends_a_recorded_window_game_with_its_code_and_a_valid_file(
     assert sum(1 for bits, n in replay.inputs if bits & 4 for _ in range(n)) > 0  # it fired
 
 
+class _FullStream(io.StringIO):
+    """Standard error on a full disk: every write fails."""
+
+    def write(self, text: str) -> int:
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+
+@pytest.mark.parametrize("errors_full", [False, True])
 def test_a_window_game_plays_on_through_a_full_disk_and_saves_it_all_after(
-        tmp_path, capsys, monkeypatch):
+        tmp_path, capsys, monkeypatch, errors_full):
     """The disk full from the second autosave to the fifth (every append failing), in a
     window game on the test's clock, closed at frame 1,000: one line says so the first
     time and the game plays on (it ended with the error, the player thrown out); the
-    saves after it write what was kept, and the file replays all 1,000 ticks."""
+    saves after it write what was kept, and the file replays all 1,000 ticks. With
+    standard error on the full disk too, the line goes nowhere and the game plays on (its
+    failure ended the game, exit 2)."""
     import pygame
 
     from invaders import atomic
@@ -464,13 +492,15 @@ def test_a_window_game_plays_on_through_a_full_disk_and_saves_it_all_after(
     on_the_tests_clock(monkeypatch, now)
     monkeypatch.setattr(pygame.event, "get", events)
     monkeypatch.setattr(atomic, "append_whole", full_for_a_while)
+    if errors_full:
+        monkeypatch.setattr(sys, "stderr", _FullStream())
     path = tmp_path / "played.json"
     assert main(["play", "--record", str(path), "--seed", "3"]) == 0
     out, err = capsys.readouterr()
-    assert err == (f"invaders: cannot write replay {str(path)!r}: no space left on the "
-                   "device; the file keeps its first 180 ticks, a valid replay; play goes on, "
-                   "and what is not written is kept for the next autosave (and the last, at "
-                   "the end)\n")
+    assert err == "" if errors_full else err == (
+        f"invaders: cannot write replay {str(path)!r}: no space left on the device; the file "
+        "keeps its first 180 ticks, a valid replay; play goes on, and what is not written is "
+        "kept for the next autosave (and the last, at the end)\n")
     replay = load(path)
     assert out == f"saved {path}: {replay.ticks} ticks\n" and len(appends) == 5
     assert replay.ticks == 999 and run(replay)[0].mismatch is None

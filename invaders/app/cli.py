@@ -13,6 +13,7 @@ from collections.abc import Callable, Sequence
 from typing import Any, NamedTuple, NoReturn
 
 from invaders import __version__
+from invaders.app.outputs import output_to_nothing, say
 from invaders.engine.adaptive import BROADPHASES, COMPILED, DEFAULT_BROADPHASE
 from invaders.engine.compiled import shadowed_note
 from invaders.engine.grid import DEFAULT_CELL
@@ -295,8 +296,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     if signals.received is not None:
         saved = (f"; saved {recorder.path} ({recorder.ticks} ticks)" if recorder is not None
                  else "")
-        print(f"invaders: stopped by {signals.name} at tick {world.tick}{saved}",
-              file=sys.stderr)
+        say(f"invaders: stopped by {signals.name} at tick {world.tick}{saved}")
         return signals.exit_code
     _print_run(args, world, result, shadow)
     return 0
@@ -490,7 +490,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
         code = bench(ticks=ticks, seed=seed, rounds=args.rounds, ale=args.ale,
                      big=args.big, largest=args.largest)
     except BenchFailure as err:
-        print(f"invaders: bench: {err}", file=sys.stderr)
+        say(f"invaders: bench: {err}")
         return 1
     if args.ale:  # the environment against ALE's own, as section 6
         code = max(code, _env_table(args.rounds, section=True))
@@ -622,7 +622,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         from invaders.app.outputs import OutputError
         from invaders.app.processing import current
     except KeyboardInterrupt:  # (Ctrl-C while the program is still loading)
-        print("invaders: interrupted", file=sys.stderr)
+        say("invaders: interrupted")
         return 130
     current.clear()
     try:
@@ -633,13 +633,13 @@ def main(argv: Sequence[str] | None = None) -> int:
             sys.stdout.flush()  # (here, where a failure is said in one line, not at the exit)
         return code
     except (UsageError, OutputError) as err:
-        print(f"invaders: error: {err}", file=sys.stderr)
+        say(f"invaders: error: {err}")
         return 2
     except KeyboardInterrupt:
-        print("invaders: interrupted", file=sys.stderr)
+        say("invaders: interrupted")
         return 130
     except BrokenPipeError:  # the reader went away (| head): stop quietly
-        _output_to_nothing()
+        output_to_nothing()
         return 0
     except Exception as err:  # the last guard: one line, never a bare traceback
         if isinstance(err, OSError) and (_output_failed() or err.errno in FULL):
@@ -647,7 +647,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
             # (a named file's failures are said as OutputErrors: one unnamed is the output's,
             # or a library's scratch file's, where the output is not buffered to tell)
-            print(f"invaders: error: cannot write the output: {reason(err)}", file=sys.stderr)
+            say(f"invaders: error: cannot write the output: {reason(err)}")
             return 2
         if debug:
             import traceback
@@ -655,8 +655,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             traceback.print_exc()
         where = f" while processing {current[-1]}" if current else ""
         text = " ".join(f"{type(err).__name__}: {err}".split())[:300]
-        print(f"invaders: internal error{where}: {text} (run it again with --debug for "
-              "the traceback)", file=sys.stderr)
+        say(f"invaders: internal error{where}: {text} (run it again with --debug for the "
+             "traceback)")
         return 3
 
 
@@ -671,16 +671,9 @@ def _output_failed() -> bool:
         if sys.stdout is not None:
             sys.stdout.flush()
     except OSError:
-        _output_to_nothing()
+        output_to_nothing()
         return True
     return False
-
-
-def _output_to_nothing() -> None:
-    """Standard output pointed at nothing, so that what is left in its buffer goes there
-    when Python flushes it at the program's end (a reader gone, a disk full)."""
-    with contextlib.suppress(OSError, ValueError):  # (a stream with no descriptor)
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
 
 
 if __name__ == "__main__":

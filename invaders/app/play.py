@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import contextlib
 import io
-import sys
 import time
 import warnings
 from collections.abc import Callable, Iterator
@@ -18,7 +17,7 @@ import pygame
 from invaders.app.attract import Attract, card, demo_world
 from invaders.app.labpanel import LabControl, PanelPainter, draw_marks, panel_width
 from invaders.app.loop import FixedStepLoop
-from invaders.app.outputs import OutputError, writing
+from invaders.app.outputs import OutputError, say, writing
 from invaders.app.recording import Recorder
 from invaders.app.render import CandidateWatch, Renderer
 from invaders.app.signals import StopSignals
@@ -358,9 +357,8 @@ def open_window(scale: int | None, title: str = "invaders", lab: bool = False
     fitting = fitting_scale(scale or DEFAULT_SCALE, size_at)
     if scale is not None and fitting < scale:
         screen_w, screen_h = pygame.display.get_desktop_sizes()[0]
-        print(f"invaders: a window at scale {scale} would not fit on this {screen_w}x"
-              f"{screen_h} screen: opened at scale {fitting} (resize it, or F11 for the full "
-              "screen)", file=sys.stderr)
+        say(f"invaders: a window at scale {scale} would not fit on this {screen_w}x{screen_h} "
+            f"screen: opened at scale {fitting} (resize it, or F11 for the full screen)")
     window = pygame.display.set_mode(size_at(fitting), pygame.RESIZABLE)
     pygame.display.set_caption(f"{title}  (arrows/A D move, space fires, P pause, "
                                "F3 overlay, F4 lab)")
@@ -490,12 +488,12 @@ def _said_once() -> Callable[[OutputError], None]:
     disk."""
     said: list[OutputError] = []
 
-    def say(failure: OutputError) -> None:
+    def say_once(failure: OutputError) -> None:
         if not said:
-            print(f"invaders: {failure}; play goes on, and what is not written is kept "
-                  "for the next autosave (and the last, at the end)", file=sys.stderr)
+            say(f"invaders: {failure}; play goes on, and what is not written is kept for the "
+                "next autosave (and the last, at the end)")
             said.append(failure)
-    return say
+    return say_once
 
 
 def play(seed: int = 0, scale: int | None = None, broadphase: str = DEFAULT_BROADPHASE,
@@ -538,8 +536,7 @@ def play(seed: int = 0, scale: int | None = None, broadphase: str = DEFAULT_BROA
             pygame.display.quit()
     saved = f"saved {recorder.path}: {recorder.ticks} ticks" if recorder is not None else ""
     if signals.received is not None:  # one line for the stop and what was saved
-        print(f"invaders: stopped by {signals.name}" + (f"; {saved}" if saved else ""),
-              file=sys.stderr)
+        say(f"invaders: stopped by {signals.name}" + (f"; {saved}" if saved else ""))
         return signals.exit_code
     if saved:
         print(saved)

@@ -11,12 +11,11 @@ atomic: a temporary file beside it, then a rename.
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Protocol
 
-from invaders.app.outputs import OutputError, writing
+from invaders.app.outputs import OutputError, say, writing
 from invaders.atomic import GrowingFile, clean_stale, write_atomic
 from invaders.game.config import GameConfig
 from invaders.game.recording import ReplayRecorder
@@ -64,7 +63,7 @@ class Recorder(ReplayRecorder):
         """Said once, in one line."""
         super()._stop()
         where = f"{self.path}: " if self.path is not None else ""
-        print(f"invaders: {where}{self.stopped}", file=sys.stderr)
+        say(f"invaders: {where}{self.stopped}")
 
     def save(self) -> None:
         """Bring the file up to the current tick (call it between ticks only)."""
@@ -91,8 +90,8 @@ class Recorder(ReplayRecorder):
         has moved, whole, to a free name: said in one line, and recorded on there."""
         if self._file is not None and self.path is not None and (
                 self._file.path != Path(self.path)):
-            print(f"invaders: {self.path} was replaced or removed meanwhile, not by this "
-                  f"recording: it goes on, whole, in {self._file.path}", file=sys.stderr)
+            say(f"invaders: {self.path} was replaced or removed meanwhile, not by this "
+                f"recording: it goes on, whole, in {self._file.path}")
             self.path = self._file.path
 
 

@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import sys
 import time
 from pathlib import Path
 
-from invaders.app.outputs import REPLAY_SUFFIXES, OutputError, check_output, writing
+from invaders.app.outputs import REPLAY_SUFFIXES, OutputError, check_output, say, writing
 from invaders.app.processing import working_on
 from invaders.app.recording import save_replay
 from invaders.engine.adaptive import DEFAULT_BROADPHASE
@@ -24,7 +23,7 @@ def check_all(args: list[str], update: bool = False, broadphase: str = DEFAULT_B
         try:
             paths += replay_paths(arg)
         except ReplayError as err:
-            print(f"invaders: error: {err}", file=sys.stderr)
+            say(f"invaders: error: {err}")
             worst = 2
     for path in paths:
         try:
@@ -33,14 +32,14 @@ def check_all(args: list[str], update: bool = False, broadphase: str = DEFAULT_B
             if update:
                 check_output(str(path), "replay", REPLAY_SUFFIXES)
         except (ReplayError, OutputError) as err:
-            print(f"invaders: error: {path}: {err}", file=sys.stderr)
+            say(f"invaders: error: {path}: {err}")
             worst = 2
             continue
         try:
             with working_on(path):
                 outcome = _check(path, replay, broadphase, update)
         except OutputError as err:  # (a full disk: the others are still checked)
-            print(f"invaders: error: {err}", file=sys.stderr)
+            say(f"invaders: error: {err}")
             worst = 2
             continue
         if outcome == UPDATED:
