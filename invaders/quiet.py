@@ -1,4 +1,5 @@
-"""SDL's and ALSA's probing chatter kept off the terminal.
+"""The standard error stream: the C libraries' chatter kept off it, and our own lines on
+it, which never stop the program.
 
 Opening the display or the mixer makes SDL try its drivers in turn, and the C libraries it
 tries write straight to the process's stderr (eight ALSA lines without a sound card;
@@ -11,7 +12,8 @@ from __future__ import annotations
 import os
 import sys
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
+from typing import TextIO
 
 
 @contextmanager
@@ -33,3 +35,24 @@ def c_stderr_quiet() -> Iterator[None]:
     finally:
         os.dup2(saved, 2)
         os.close(saved)
+
+
+def say(line: str, end: str = "\n") -> None:
+    """A line on standard error that never stops the program: where standard error cannot
+    take it (its disk full), it is said to no one, and the program goes on to its own
+    exit code (an unwritten line ended a window game, or made the exit 1, or 120 at
+    Python's last flush)."""
+    try:
+        if sys.stderr is not None:  # (None without a console: pythonw on Windows)
+            print(line, end=end, file=sys.stderr, flush=True)
+    except OSError:
+        output_to_nothing(sys.stderr)
+
+
+def output_to_nothing(stream: TextIO | None = None) -> None:
+    """Standard output (or `stream`) pointed at nothing, so that what is left in its
+    buffer goes there when Python flushes it at the program's end (a reader gone, a disk
+    full)."""
+    with suppress(OSError, ValueError):  # (a stream with no descriptor)
+        target = sys.stdout if stream is None else stream
+        os.dup2(os.open(os.devnull, os.O_WRONLY), target.fileno())

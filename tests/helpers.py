@@ -1,7 +1,11 @@
-"""Helpers: ASCII masks, hand-made scenes, and a world brought to a known moment."""
+"""Helpers: ASCII masks, hand-made scenes, a world brought to a known moment, and a stream
+on a full disk."""
 
 from __future__ import annotations
 
+import errno
+import io
+import os
 from collections.abc import Callable, Sequence
 from operator import attrgetter
 from typing import Any
@@ -127,3 +131,10 @@ def vector_answers_alike(one: tuple, other: tuple) -> bool:
     return len(one) == len(other) and all(
         infos_alike(a, b) if isinstance(a, dict) else np.array_equal(a, b)
         for a, b in zip(one, other, strict=True))
+
+
+class FullStream(io.StringIO):
+    """A stream on a full disk (standard error, say): every write fails."""
+
+    def write(self, text: str) -> int:
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))

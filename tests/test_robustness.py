@@ -25,6 +25,7 @@ from invaders.app.report import CounterTable
 from invaders.atomic import append_whole
 from invaders.engine.stats import STAT_FIELDS, CollisionStats
 from invaders.game.replay import load, run
+from tests.helpers import FullStream
 
 ROOT = Path(__file__).resolve().parents[1]
 INVADERS = str(Path(sys.executable).with_name("invaders"))
@@ -196,7 +197,6 @@ def test_a_pipe_or_a_device_is_refused_at_once_not_read(capsys, tmp_path, monkey
     """Refused before it is opened: opening the pipe for reading would block forever, and
     reading the device would never end."""
     import builtins
-    import io
 
     path = tmp_path / "game.json"
     if kind == "pipe":
@@ -456,13 +456,6 @@ def test_a_signal_ends_a_recorded_window_game_with_its_code_and_a_valid_file(
     assert sum(1 for bits, n in replay.inputs if bits & 4 for _ in range(n)) > 0  # it fired
 
 
-class _FullStream(io.StringIO):
-    """Standard error on a full disk: every write fails."""
-
-    def write(self, text: str) -> int:
-        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
-
-
 @pytest.mark.parametrize("errors_full", [False, True])
 def test_a_window_game_plays_on_through_a_full_disk_and_saves_it_all_after(
         tmp_path, capsys, monkeypatch, errors_full):
@@ -493,7 +486,7 @@ def test_a_window_game_plays_on_through_a_full_disk_and_saves_it_all_after(
     monkeypatch.setattr(pygame.event, "get", events)
     monkeypatch.setattr(atomic, "append_whole", full_for_a_while)
     if errors_full:
-        monkeypatch.setattr(sys, "stderr", _FullStream())
+        monkeypatch.setattr(sys, "stderr", FullStream())
     path = tmp_path / "played.json"
     assert main(["play", "--record", str(path), "--seed", "3"]) == 0
     out, err = capsys.readouterr()

@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import errno
 import os
+import sys
 from pathlib import Path
 
 import pygame
@@ -13,8 +14,9 @@ import pytest
 from invaders.app.cli import main
 from invaders.lab import charts
 from invaders.lab.matrix import Method
-from invaders.lab.plan import Plan, execute
+from invaders.lab.plan import Plan, Progress, execute
 from invaders.lab.runner import SceneSpec
+from tests.helpers import FullStream
 
 REPLAYS = Path(__file__).resolve().parents[1] / "replays"
 # Fields that depend on timing: speeds, and which broad phase an automatic choice made.
@@ -65,6 +67,17 @@ def test_a_local_dask_cluster_gives_the_same_answers(serial_rows):
     distributed = pytest.importorskip("dask.distributed")
     with distributed.LocalCluster(n_workers=1, processes=False, dashboard_address=None) as c:
         rows = execute(_plan(), scheduler=c.scheduler_address)
+    assert _accuracy(rows) == _accuracy(serial_rows)
+
+
+def test_a_study_goes_on_when_its_progress_cannot_be_written(serial_rows, monkeypatch):
+    """Standard error on a full disk: the progress lines go nowhere and the study goes on
+    to its rows (the first line's failure ended it, exit 2, with nothing written)."""
+    monkeypatch.setattr(sys, "stderr", FullStream())
+    plan = _plan()
+    bar = Progress(plan.cells, "study")
+    rows = execute(plan, 1, None, bar.advance)
+    bar.close()
     assert _accuracy(rows) == _accuracy(serial_rows)
 
 

@@ -13,12 +13,12 @@ from collections.abc import Callable, Sequence
 from typing import Any, NamedTuple, NoReturn
 
 from invaders import __version__
-from invaders.app.outputs import output_to_nothing, say
 from invaders.engine.adaptive import BROADPHASES, COMPILED, DEFAULT_BROADPHASE
 from invaders.engine.compiled import shadowed_note
 from invaders.engine.grid import DEFAULT_CELL
 from invaders.lab import choices
 from invaders.lab.styles import STYLES
+from invaders.quiet import output_to_nothing, say
 
 MAX_TICKS = 100_000_000
 

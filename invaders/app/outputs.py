@@ -13,11 +13,9 @@ import contextlib
 import errno
 import os
 import stat
-import sys
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
-from typing import TextIO
 
 from invaders.atomic import TEMPORARY_EXTRA, TEMPORARY_SUFFIX, temporary_prefix
 
@@ -114,24 +112,3 @@ def reason(err: OSError) -> str:
 REPLAY_SUFFIXES = (".json",)  # `invaders replay FOLDER` reads *.json
 REPORT_SUFFIXES = (".csv", ".jsonl")
 PICTURE_SUFFIXES = (".png",)
-
-
-def say(line: str) -> None:
-    """A line on standard error that never stops the program: where standard error cannot
-    take it (its disk full), it is said to no one, and the program goes on to its own
-    exit code (an unwritten line ended a window game, or made the exit 1, or 120 at
-    Python's last flush)."""
-    try:
-        if sys.stderr is not None:  # (None without a console: pythonw on Windows)
-            print(line, file=sys.stderr, flush=True)
-    except OSError:
-        output_to_nothing(sys.stderr)
-
-
-def output_to_nothing(stream: TextIO | None = None) -> None:
-    """Standard output (or `stream`) pointed at nothing, so that what is left in its
-    buffer goes there when Python flushes it at the program's end (a reader gone, a disk
-    full)."""
-    with contextlib.suppress(OSError, ValueError):  # (a stream with no descriptor)
-        target = sys.stdout if stream is None else stream
-        os.dup2(os.open(os.devnull, os.O_WRONLY), target.fileno())

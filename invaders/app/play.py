@@ -17,7 +17,7 @@ import pygame
 from invaders.app.attract import Attract, card, demo_world
 from invaders.app.labpanel import LabControl, PanelPainter, draw_marks, panel_width
 from invaders.app.loop import FixedStepLoop
-from invaders.app.outputs import OutputError, say, writing
+from invaders.app.outputs import OutputError, writing
 from invaders.app.recording import Recorder
 from invaders.app.render import CandidateWatch, Renderer
 from invaders.app.signals import StopSignals
@@ -34,6 +34,7 @@ from invaders.game.world import Phase, TickReport, World
 from invaders.lab.autopilot import Autopilot
 from invaders.lab.live import Choice
 from invaders.lab.picture import Prompt
+from invaders.quiet import say
 
 LEFT_KEYS = (pygame.K_LEFT, pygame.K_a)
 RIGHT_KEYS = (pygame.K_RIGHT, pygame.K_d)

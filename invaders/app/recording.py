@@ -15,12 +15,13 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Protocol
 
-from invaders.app.outputs import OutputError, say, writing
+from invaders.app.outputs import OutputError, writing
 from invaders.atomic import GrowingFile, clean_stale, write_atomic
 from invaders.game.config import GameConfig
 from invaders.game.recording import ReplayRecorder
 from invaders.game.replay import MAX_FILE_BYTES, Replay
 from invaders.game.world import World
+from invaders.quiet import say
 
 
 class InputSource(Protocol):

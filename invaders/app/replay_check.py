@@ -5,12 +5,13 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from invaders.app.outputs import REPLAY_SUFFIXES, OutputError, check_output, say, writing
+from invaders.app.outputs import REPLAY_SUFFIXES, OutputError, check_output, writing
 from invaders.app.processing import working_on
 from invaders.app.recording import save_replay
 from invaders.engine.adaptive import DEFAULT_BROADPHASE
 from invaders.game.replay import Replay, ReplayError, load, replay_paths, run
 from invaders.lab.live import Choice, at_speed, replay_switch
+from invaders.quiet import say
 
 UPDATED = -1
 

@@ -22,6 +22,7 @@ from invaders.engine.grid import DEFAULT_CELL
 from invaders.lab.choices import MULTIPLIERS
 from invaders.lab.matrix import Method, accuracy_matrix, broad_matrix
 from invaders.lab.runner import SceneSpec, run_scene
+from invaders.quiet import say
 
 BRUTE_LIMIT = 1000  # bodies: above this, brute force would take minutes a tick
 RECTS_LIMIT = 3000  # bodies: above this, brute force in C (the cell rects) takes seconds
@@ -73,7 +74,8 @@ def make_plan(replays: Iterable[Path], quick: bool, big: bool = False) -> Plan:
 
 
 class Progress:
-    """A one-line progress bar on stderr (plain lines when stderr is not a terminal)."""
+    """A one-line progress bar on stderr (plain lines when stderr is not a terminal), which
+    never stops the study (`say`)."""
 
     def __init__(self, total: int, label: str) -> None:
         self.total = total
@@ -89,12 +91,11 @@ class Progress:
         bar = "#" * filled + "." * (width - filled)
         line = (f"{self.label} [{bar}] {self.done}/{self.total} cells, "
                 f"{time.perf_counter() - self.start:.0f}s  {what}")
-        print(("\r" + line[:100].ljust(100)) if self.tty else line, end="" if self.tty else "\n",
-              file=sys.stderr, flush=True)
+        say(("\r" + line[:100].ljust(100)) if self.tty else line, end="" if self.tty else "\n")
 
     def close(self) -> None:
         if self.tty:
-            print(file=sys.stderr)
+            say("")
 
 
 def execute(plan: Plan, jobs: int = 1, scheduler: str | None = None,
