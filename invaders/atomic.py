@@ -6,7 +6,6 @@ from __future__ import annotations
 import contextlib
 import itertools
 import os
-import stat
 import tempfile
 import weakref
 from collections.abc import Iterator
@@ -29,7 +28,7 @@ def atomic_writer(path: str | os.PathLike[str], mode: str = "w") -> Iterator[IO]
     folder = target.parent if str(target.parent) else Path(".")
     fd, tmp = tempfile.mkstemp(prefix=temporary_prefix(target), suffix=TEMPORARY_SUFFIX,
                                dir=folder)
-    _usual_permissions(fd)
+    _permissions(fd, target)
     try:
         with os.fdopen(fd, mode, newline="" if "b" not in mode else None) as handle:
             yield handle
@@ -42,15 +41,22 @@ def atomic_writer(path: str | os.PathLike[str], mode: str = "w") -> Iterator[IO]
         raise
 
 
-def _usual_permissions(fd: int) -> None:
-    """mkstemp makes files private (0600); give them what a plain open() would (where
-    files have such modes: Windows before Python 3.13 has no os.fchmod)."""
+def _permissions(fd: int, replacing: Path | None) -> None:
+    """Give the file being written what a plain open() would: the permissions of the file
+    it replaces, kept (a private replay stays private), or for a new one 0666 less the
+    umask (mkstemp makes files private, 0600). Windows before Python 3.13 has no
+    os.fchmod."""
     if not hasattr(os, "fchmod"):
         return
-    umask = os.umask(0)
-    os.umask(umask)
-    os.fchmod(fd, (stat.S_IRUSR | stat.S_IWUSR | stat.S_IRGRP | stat.S_IWGRP | stat.S_IROTH
-                   | stat.S_IWOTH) & ~umask)
+    try:
+        mode = os.stat(replacing).st_mode & 0o777 if replacing else None  # (its rwx bits)
+    except OSError:  # (nothing there yet)
+        mode = None
+    if mode is None:
+        umask = os.umask(0)
+        os.umask(umask)
+        mode = 0o666 & ~umask
+    os.fchmod(fd, mode)
 
 
 def write_atomic(path: str | os.PathLike[str], text: str) -> tuple[int, int]:
@@ -68,7 +74,7 @@ def write_new(path: str | os.PathLike[str], text: str) -> Path:
     target = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=temporary_prefix(target), suffix=TEMPORARY_SUFFIX,
                                dir=target.parent if str(target.parent) else Path("."))
-    _usual_permissions(fd)
+    _permissions(fd, None)  # (never over another file)
     try:
         with os.fdopen(fd, "w", newline="") as handle:
             handle.write(text)
@@ -106,7 +112,7 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[str]:
     target = Path(path)
     folder = target.parent if str(target.parent) else Path(".")
     fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=folder)
-    _usual_permissions(fd)
+    _permissions(fd, target)
     os.close(fd)
     try:
         yield tmp

@@ -70,6 +70,48 @@ def test_nothing_ever_replaces_a_link_or_a_folder(capsys, tmp_path):
     assert real.read_text() == "precious" and link.is_symlink()
 
 
+def test_a_file_read_only_to_the_user_is_not_replaced(capsys, tmp_path, monkeypatch):
+    """A replay its owner made read-only (as another user's): refused in one line, as a
+    plain write to it would be, and kept (the rename over it, which the folder allows,
+    replaced it, and the recorded game was lost). Root may write any file, as a plain
+    write may: os.access answers for the user running it, here made to say no."""
+    replay, picture = tmp_path / "precious.json", tmp_path / "precious.png"
+    replay.write_text("a recorded game")
+    picture.write_text("a picture")
+    asked = os.access
+
+    def read_only(path, mode, **kwargs):
+        if Path(path) in (replay, picture) and mode & os.W_OK:
+            return False
+        return asked(path, mode, **kwargs)
+
+    monkeypatch.setattr(os, "access", read_only)
+    for what, path, words in (("replay", replay, ["run", "--ticks", "5", "--record"]),
+                              ("screenshot", picture, ["play", "--ticks", "2", "--screenshot"])):
+        assert _one_line_error(capsys, [*words, str(path)]) == (
+            f"invaders: error: cannot write {what} {str(path)!r}: permission denied (the "
+            "file is read-only to you, and will not be replaced)\n")
+    assert (replay.read_text(), picture.read_text()) == ("a recorded game", "a picture")
+
+
+@pytest.mark.skipif(not hasattr(os, "fchmod"), reason="files have no such modes here")
+def test_a_replaced_file_keeps_its_permissions_and_a_new_one_gets_the_usual(capsys, tmp_path):
+    """As a plain write would: a private replay recorded over stays private (it became
+    0644, readable by all), and a new file gets 0666 less the umask."""
+    private, new = tmp_path / "private.json", tmp_path / "new.json"
+    private.write_text("{}")
+    private.chmod(0o600)
+    umask = os.umask(0o027)
+    try:
+        for path in (private, new):
+            assert main(["run", "--ticks", "5", "--record", str(path)]) == 0
+    finally:
+        os.umask(umask)
+    capsys.readouterr()
+    assert (private.stat().st_mode & 0o777, new.stat().st_mode & 0o777) == (0o600, 0o640)
+    assert load(private).ticks == 5
+
+
 def _disk_full(monkeypatch) -> None:
     def full(fd: int) -> None:
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))

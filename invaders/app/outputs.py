@@ -62,6 +62,9 @@ def check_output(path: str, what: str, suffixes: tuple[str, ...], named: str = "
     if info is not None and not stat.S_ISREG(info.st_mode):
         raise OutputError(f"cannot write {what} {shown!r}: it is not a regular file "
                           "(a device, a pipe or a link), and will not be replaced")
+    if info is not None and not os.access(target, os.W_OK):  # (as a plain write would be)
+        raise OutputError(f"cannot write {what} {shown!r}: permission denied (the file is "
+                          "read-only to you, and will not be replaced)")
     if target.suffix.lower() not in suffixes:
         raise OutputError(f"{what} {shown!r} must end in {' or '.join(suffixes)}")
     if info is not None and _sticky_and_not_ours(folder_info, info):
