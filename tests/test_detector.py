@@ -176,8 +176,8 @@ def test_the_quick_test_passes_a_pair_exactly_when_its_boxes_meet(sizes, starts,
 
 
 BOXES = st.tuples(st.integers(-300_000, 300_000), st.integers(-300_000, 300_000),
-                  st.integers(0, 200_000) | st.integers(0, 100),
-                  st.integers(0, 200_000) | st.integers(0, 100))
+                  st.integers(1, 200_000) | st.integers(1, 100),
+                  st.integers(1, 200_000) | st.integers(1, 100))
 SPOTS = st.tuples(st.integers(-300_000, 300_000), st.integers(-300_000, 300_000))
 
 
@@ -186,12 +186,12 @@ SPOTS = st.tuples(st.integers(-300_000, 300_000), st.integers(-300_000, 300_000)
        near=st.booleans())
 def test_a_zone_holds_a_body_exactly_when_their_boxes_meet_whatever_their_sizes(
         zone, start, end, near):
-    """A zone's index against every box of the zone met by hand, for boxes from none to
+    """A zone's index against every box of the zone met by hand, for boxes from 1 to
     200,000 px wide and a body swept up to 600,000 px: the same answer. (A box that
     large took seconds and a gigabyte to bin cell by cell, and a body that large walked
     every cell it crossed.)"""
     from invaders.engine.body import tick_box
-    from invaders.engine.detector import ZoneIndex
+    from invaders.engine.detector import BINNED, ZoneIndex
 
     if near:  # (a short move, mostly among the cells)
         end = (start[0] + end[0] % 200 - 100, start[1] + end[1] % 200 - 100)
@@ -204,4 +204,4 @@ def test_a_zone_holds_a_body_exactly_when_their_boxes_meet_whatever_their_sizes(
     x0, y0, x1, y1 = tick_box(body, store.tick)
     assert index.holds(body, store.tick) == any(
         x0 < zx + zw and zx < x1 and y0 < zy + zh and zy < y1 for zx, zy, zw, zh in zone)
-    assert len(index.cells) <= ZoneIndex.BINNED * len(zone)  # (what binning cost)
+    assert len(index.cells) <= BINNED * len(zone)  # (what binning cost)

@@ -59,6 +59,7 @@ class Detecting(Protocol):
 
 
 WIDE = 1024  # px: a body's box wider or taller meets a zone's boxes one by one
+BINNED = 256  # cells: a zone's box over more is not binned
 
 
 class ZoneIndex:
@@ -69,7 +70,6 @@ class ZoneIndex:
     meets each of the zone's boxes directly instead."""
 
     CELL = 64
-    BINNED = 256  # cells: a box over more is not binned
 
     def __init__(self, zone: Zone) -> None:
         self.zone = zone
@@ -80,7 +80,7 @@ class ZoneIndex:
         for box in self.boxes:
             x0, y0, x1, y1 = box
             across, down = range(x0 // c, (x1 - 1) // c + 1), range(y0 // c, (y1 - 1) // c + 1)
-            if len(across) * len(down) > self.BINNED:
+            if len(across) * len(down) > BINNED:
                 self.large = True
                 continue
             for cy in down:
