@@ -43,20 +43,24 @@ def atomic_writer(path: str | os.PathLike[str], mode: str = "w") -> Iterator[IO]
 
 def _permissions(fd: int, replacing: Path | None) -> None:
     """Give the file being written what a plain open() would: the permissions of the file
-    it replaces, kept (a private replay stays private), or for a new one 0666 less the
-    umask (mkstemp makes files private, 0600). Windows before Python 3.13 has no
-    os.fchmod."""
+    it replaces, kept (a private replay stays private), and its owner where we may (root:
+    `sudo` leaves a user's file theirs), or for a new one 0666 less the umask (mkstemp
+    makes files private, 0600). Windows before Python 3.13 has no os.fchmod."""
     if not hasattr(os, "fchmod"):
         return
     try:
-        mode = os.stat(replacing).st_mode & 0o777 if replacing else None  # (its rwx bits)
+        old = os.stat(replacing) if replacing else None
     except OSError:  # (nothing there yet)
-        mode = None
-    if mode is None:
+        old = None
+    if old is None:
         umask = os.umask(0)
         os.umask(umask)
-        mode = 0o666 & ~umask
-    os.fchmod(fd, mode)
+        os.fchmod(fd, 0o666 & ~umask)
+        return
+    if hasattr(os, "fchown") and (old.st_uid, old.st_gid) != (os.geteuid(), os.getegid()):
+        with contextlib.suppress(PermissionError):  # (only root gives a file away)
+            os.fchown(fd, old.st_uid, old.st_gid)
+    os.fchmod(fd, old.st_mode & 0o777)  # (its read, write and run bits)
 
 
 def write_atomic(path: str | os.PathLike[str], text: str) -> tuple[int, int]:

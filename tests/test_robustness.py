@@ -112,6 +112,21 @@ def test_a_replaced_file_keeps_its_permissions_and_a_new_one_gets_the_usual(caps
     assert load(private).ticks == 5
 
 
+@pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0,
+                    reason="only root may give a file to another user")
+def test_a_file_replaced_by_root_stays_its_owners(capsys, tmp_path):
+    """`sudo invaders run --record` over a user's replay: the new file is still the user's,
+    as a plain write would leave it (it became root's, and the user could record over it
+    no more)."""
+    theirs = tmp_path / "theirs.json"
+    theirs.write_text("{}")
+    os.chown(theirs, 65534, 65534)
+    assert main(["run", "--ticks", "5", "--record", str(theirs)]) == 0
+    capsys.readouterr()
+    assert (theirs.stat().st_uid, theirs.stat().st_gid) == (65534, 65534)
+    assert load(theirs).ticks == 5
+
+
 def _disk_full(monkeypatch) -> None:
     def full(fd: int) -> None:
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
