@@ -54,5 +54,9 @@ def output_to_nothing(stream: TextIO | None = None) -> None:
     buffer goes there when Python flushes it at the program's end (a reader gone, a disk
     full)."""
     with suppress(OSError, ValueError):  # (a stream with no descriptor)
-        target = sys.stdout if stream is None else stream
-        os.dup2(os.open(os.devnull, os.O_WRONLY), target.fileno())
+        descriptor = (sys.stdout if stream is None else stream).fileno()
+        null = os.open(os.devnull, os.O_WRONLY)
+        try:
+            os.dup2(null, descriptor)
+        finally:
+            os.close(null)
