@@ -162,6 +162,61 @@ def test_the_hits_come_in_the_groups_order_as_pygames_not_the_contacts():
     assert list(ours) == list(theirs)
 
 
+def _random_image(rng: random.Random) -> pygame.Surface:
+    """A picture with holes, as sprites' images have: transparent pixels by alpha or by a
+    colour key, which `pygame.mask.from_surface` leaves out."""
+    w, h = rng.randrange(1, 24), rng.randrange(1, 24)
+    keyed = rng.random() < 0.5
+    image = pygame.Surface((w, h), 0 if keyed else pygame.SRCALPHA)
+    if keyed:
+        image.set_colorkey((0, 0, 0))
+    for _ in range(rng.randrange(w * h + 1)):
+        image.set_at((rng.randrange(w), rng.randrange(h)), (200, 90, 30, 255))
+    return image
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), broadphase=st.sampled_from(["grid", "numpy", "auto"]))
+def test_sprites_with_images_and_no_masks_meet_by_their_images_pixels_as_pygames(
+        seed, broadphase):
+    """`collide_mask` makes a mask of the image where a sprite has none: holes in the
+    picture (alpha or colour key) touch nothing, frame after frame as the sprites move,
+    and a sprite with both is shaped by its mask."""
+    rng = random.Random(seed)
+    groups = pygame.sprite.Group(), pygame.sprite.Group()
+    for i in range(30):
+        sprite = pygame.sprite.Sprite()
+        sprite.image = _random_image(rng)
+        if rng.random() < 0.3:
+            sprite.mask = _random_mask(rng)
+        sprite.rect = sprite.image.get_rect(topleft=(rng.randrange(60), rng.randrange(60)))
+        groups[i % 2].add(sprite)
+    collide = GroupCollide(broadphase)
+    for _ in range(4):
+        expected = pygame.sprite.groupcollide(*groups, False, False,
+                                              pygame.sprite.collide_mask)
+        assert collide(*groups) == expected
+        for sprite in [*groups[0], *groups[1]]:
+            sprite.rect.move_ip(rng.randrange(-4, 5), rng.randrange(-4, 5))
+
+
+def test_a_sprite_with_an_image_is_its_pixels_not_its_rect():
+    """Two rings whose rects overlap at a corner and whose lit pixels do not."""
+    ring = pygame.Surface((10, 10), pygame.SRCALPHA)
+    pygame.draw.circle(ring, (255, 255, 255), (5, 5), 4, width=1)
+    sprites = []
+    for x in (0, 8):
+        sprite = pygame.sprite.Sprite()
+        sprite.image, sprite.rect = ring, ring.get_rect(topleft=(x, x))
+        sprites.append(sprite)
+    a, b = pygame.sprite.Group(sprites[0]), pygame.sprite.Group(sprites[1])
+    collide = GroupCollide()
+    assert collide(a, b) == {} == pygame.sprite.groupcollide(a, b, False, False,
+                                                             pygame.sprite.collide_mask)
+    sprites[1].rect.topleft = (5, 0)  # the rings cross
+    assert collide(a, b) == {sprites[0]: [sprites[1]]}
+
+
 def test_sprites_without_masks_are_their_rects():
     a = Thing(0, 0, None, 12, 3)  # wider than tall: x 0-11, rows 0-2
     b = Thing(10, 1, None, 5, 5)

@@ -14,7 +14,7 @@ round FRects: `_covering`); with
 `collide_circle` or `collide_circle_ratio`, on `Rect`s or `FRect`s, it tests boxes round
 the circles in C first, then the circles (`_collide_circles`); any other case runs the
 plain loop pygame runs, with `collide_rect` as a rect test and a mask made from an image
-once, not once a pair (see `_image_mask` for what that asks of you). The module keeps
+once, not once a pair (see `image_mask` for what that asks of you). The module keeps
 nothing else between calls. Swept tests and rules tables are the `SpriteCollider`'s
 (`invaders.engine.sprites`); nothing here sweeps.
 """
@@ -114,10 +114,10 @@ def _mask(sprite: Any) -> pygame.mask.Mask:
     try:
         return sprite.mask
     except AttributeError:
-        return _image_mask(sprite.image)
+        return image_mask(sprite.image)
 
 
-def _image_mask(image: pygame.Surface) -> pygame.mask.Mask:
+def image_mask(image: pygame.Surface) -> pygame.mask.Mask:
     """The mask `collide_mask` makes from an image, made once per image (pygame makes it
     again for every pair it tests).
 
@@ -141,11 +141,11 @@ def collide_mask(left: Any, right: Any) -> tuple[int, int] | None:
     try:  # (_mask written in twice: a pair's test is a Python call fewer, as pygame's)
         left_mask = left.mask
     except AttributeError:
-        left_mask = _image_mask(left.image)
+        left_mask = image_mask(left.image)
     try:
         right_mask = right.mask
     except AttributeError:
-        right_mask = _image_mask(right.image)
+        right_mask = image_mask(right.image)
     return left_mask.overlap(right_mask, offset)
 
 

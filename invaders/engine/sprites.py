@@ -2,7 +2,8 @@
 `pygame.sprite.groupcollide(..., collide_mask)` that is faster, exact and swept.
 
 Each call is one tick. A sprite is a body of its group's kind at `rect.topleft`, shaped by
-its `mask` where it has one and by its rect where it has not. A sprite that says where it
+its `mask` where it has one and by its rect where it has not (`GroupCollide`, as pygame's
+`collide_mask`, shapes one with no mask by its `image`'s pixels). A sprite that says where it
 was last tick (a `last_rect` attribute) is tested along its motion by swept entries; one that
 does not is tested where it is. A float rect (`FRect`) stands where pygame draws it, at
 `pygame.Rect(frect)` (its corner truncated towards zero, as `blit` does): contacts are
@@ -20,6 +21,7 @@ import pygame
 
 from invaders.engine.adaptive import DEFAULT_BROADPHASE, make_broadphase
 from invaders.engine.body import Body
+from invaders.engine.collide import image_mask
 from invaders.engine.detector import Detector
 from invaders.engine.grid import DEFAULT_CELL
 from invaders.engine.predicates import solid_mask
@@ -41,11 +43,15 @@ class SpriteContact(NamedTuple):
 
 
 class SpriteCollider:
-    """The rules table and a broad phase over sprite groups, kept between calls."""
+    """The rules table and a broad phase over sprite groups, kept between calls.
+    `from_images`: a sprite with no `mask` but an `image` is shaped by the image's pixels,
+    the mask `collide_mask` makes of it (made once per image: `image_mask` says what that
+    asks of you); one with neither is its rect."""
 
     def __init__(self, rules: RuleTable, broadphase: str = DEFAULT_BROADPHASE,
-                 cell: int = DEFAULT_CELL) -> None:
+                 cell: int = DEFAULT_CELL, from_images: bool = False) -> None:
         self.rules = rules
+        self.from_images = from_images
         self.detector = Detector(make_broadphase(broadphase, cell), rules)
         self.store = BodyStore(rules.kinds())
         self.stats = CollisionStats()
@@ -86,6 +92,9 @@ class SpriteCollider:
     def _sync(self, key: tuple[int, int], sprite: Any, kind: int) -> None:
         store = self.store
         mask = getattr(sprite, "mask", None)
+        if mask is None and self.from_images:
+            image = getattr(sprite, "image", None)
+            mask = None if image is None else image_mask(image)
         boxed = mask is None  # (its rect is its shape)
         rect = _drawn(sprite.rect, boxed)
         if mask is None:
@@ -121,11 +130,14 @@ def _drawn(rect: Any, boxed: bool) -> pygame.Rect:
 
 class GroupCollide:
     """`pygame.sprite.groupcollide(a, b, False, False, collide_mask)`, as the engine does it:
-    keep one per pair of groups you test every frame, and call it like the original."""
+    keep one per pair of groups you test every frame, and call it like the original. A
+    sprite is shaped as `collide_mask` shapes it, by its `mask` or else its `image`; one
+    with neither (which `collide_mask` refuses) by its rect, as `groupcollide` with no
+    predicate."""
 
     def __init__(self, broadphase: str = DEFAULT_BROADPHASE, cell: int = DEFAULT_CELL) -> None:
         rule = PairRule(0, 1, Shape.MASK, Shape.MASK, Motion.SWEPT)
-        self.collider = SpriteCollider(RuleTable((rule,)), broadphase, cell)
+        self.collider = SpriteCollider(RuleTable((rule,)), broadphase, cell, from_images=True)
 
     def __call__(self, group_a: Iterable[Any], group_b: Iterable[Any]) -> dict[Any, list[Any]]:
         """Each sprite of `group_a` that touched some of `group_b`, with those (in the
