@@ -200,6 +200,25 @@ def test_sprites_with_images_and_no_masks_meet_by_their_images_pixels_as_pygames
             sprite.rect.move_ip(rng.randrange(-4, 5), rng.randrange(-4, 5))
 
 
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_lists_that_hold_a_sprite_twice_or_share_one_give_what_groupcollide_gives(seed):
+    """Lists, not groups, drawn from one pool: a sprite twice in the second is listed twice
+    in each answer, one twice in the first answers once, in its first place, and one in
+    both meets itself, as pygame's loops make them."""
+    rng = random.Random(seed)
+    pool = [Thing(rng.randrange(30), rng.randrange(30), _random_mask(rng)) for _ in range(10)]
+    a, b = ([rng.choice(pool) for _ in range(7)] for _ in range(2))
+    collide = GroupCollide()
+    for _ in range(3):
+        expected = pygame.sprite.groupcollide(a, b, False, False, pygame.sprite.collide_mask)
+        ours = collide(a, b)
+        assert ours == expected
+        assert list(ours) == list(expected)
+        for sprite in pool:
+            sprite.rect.move_ip(rng.randrange(-3, 4), rng.randrange(-3, 4))
+
+
 def test_a_sprite_with_an_image_is_its_pixels_not_its_rect():
     """Two rings whose rects overlap at a corner and whose lit pixels do not."""
     ring = pygame.Surface((10, 10), pygame.SRCALPHA)

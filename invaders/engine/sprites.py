@@ -140,17 +140,25 @@ class GroupCollide:
         self.collider = SpriteCollider(RuleTable((rule,)), broadphase, cell, from_images=True)
 
     def __call__(self, group_a: Iterable[Any], group_b: Iterable[Any]) -> dict[Any, list[Any]]:
-        """Each sprite of `group_a` that touched some of `group_b`, with those (in the
-        groups' order, as pygame gives them)."""
-        hits: dict[Any, list[Any]] = {}
+        """Each sprite of `group_a` that touched some of `group_b`, with those, as pygame
+        gives them: in the groups' order, and a sprite a list holds twice in `group_b`
+        listed twice."""
+        touched: dict[int, set[int]] = {}
         for contact in self.collider.collide({0: group_a, 1: group_b}):
-            hits.setdefault(contact.a, []).append(contact.b)
-        if not hits:
-            return hits
-        order_a = {id(s): i for i, s in enumerate(group_a)}
-        order_b = {id(s): i for i, s in enumerate(group_b)}
-        return {a: sorted(bs, key=lambda s: order_b[id(s)])
-                for a, bs in sorted(hits.items(), key=lambda item: order_a[id(item[0])])}
+            touched.setdefault(id(contact.a), set()).add(id(contact.b))
+        if not touched:
+            return {}
+        listed_b = list(group_b)
+        places: dict[int, list[int]] = {}
+        for place, sprite in enumerate(listed_b):
+            places.setdefault(id(sprite), []).append(place)
+        hits: dict[Any, list[Any]] = {}
+        for sprite in group_a:
+            ids = touched.get(id(sprite))
+            if ids is not None and sprite not in hits:
+                hits[sprite] = [listed_b[place] for place in
+                                sorted(place for b in ids for place in places[b])]
+        return hits
 
     @property
     def stats(self) -> CollisionStats:
