@@ -127,3 +127,54 @@ def test_a_real_game_never_tests_an_excluded_pair():
     assert frozenset({Kind.BOMB, Kind.ALIEN}) not in spy.kind_pairs
     assert frozenset({Kind.BUNKER}) not in spy.kind_pairs
     assert all(Kind.SAUCER not in pair or Kind.SHOT in pair for pair in spy.kind_pairs)
+
+
+@pytest.mark.parametrize(("field", "value", "said"), [
+    ("a_shape", "mask", "a_shape 'mask': one of Shape.BOX, Shape.MASK"),
+    ("b_shape", Motion.SWEPT, "b_shape <Motion.SWEPT: 'swept'>: one of Shape.BOX"),
+    ("motion", "swept", "motion 'swept': one of Motion.DISCRETE, Motion.SWEPT, Motion.LAND"),
+    ("zone", ((0, 0, 2.5, 4),), r"zone box \(0, 0, 2.5, 4\): four whole numbers"),
+    ("zone", ((0, 0, 4),), r"zone box \(0, 0, 4\): four whole numbers"),
+    ("zone", (0, 0, 4, 4), "zone box 0: four whole numbers, .*a zone is a tuple of such"),
+    ("zone", 7, "zone 7: a tuple of boxes"),
+    ("zone", ((0, 0, -1, 4),), r"zone box \(0, 0, -1, 4\): a width or height below 0")])
+def test_an_entry_that_is_not_one_is_refused_when_made_naming_the_field(field, value, said):
+    """A shape or motion given by its value's string passed as the other member (every
+    shape not `Shape.MASK` was tested as a box: pixels silently ignored), and a zone's box
+    of floats, three numbers, or a flat tuple failed inside a tick; a negative size meant
+    a box that holds nothing."""
+    typed = field != "zone" or not isinstance(value, tuple)  # (compiled, the field's type)
+    if COMPILED and typed:
+        with pytest.raises(TypeError):
+            PairRule(1, 2, **{field: value})
+        return
+    with pytest.raises(ValueError, match=said):
+        PairRule(1, 2, **{field: value})
+
+
+def _meets_in(zone, x) -> bool:
+    """Whether a 2 px square at (x, 0) meets a probe on it, kind 1 and 2 paired only in
+    `zone`."""
+    rules = RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, Motion.DISCRETE, zone=zone),))
+    store = BodyStore(rules.kinds())
+    for kind in (1, 2):
+        store.add(Body(store.new_id(), kind, x, 0, solid_mask(2, 2)))
+    return bool(Detector(Grid(), rules).detect(store)[0])
+
+
+def test_a_zone_is_read_as_whole_numbers_and_a_box_of_no_area_holds_nothing():
+    """Boxes as lists of NumPy integers are a zone as tuples of ints are; a box of no width (here
+    inside the bodies' boxes) holds no pixel and is left out, where the index met it or
+    not by where it stood on its cells; and a box of any size is taken (one 10^30 px wide
+    overflowed counting its cells)."""
+    import numpy as np
+
+    as_lists = PairRule(1, 2, zone=([np.int64(0), 0, np.int32(10), 10],))
+    assert as_lists.zone == ((0, 0, 10, 10),)
+    assert type(as_lists.zone[0][0]) is int
+    assert PairRule(1, 2, zone=((5, 0, 0, 10), (0, 0, 10, 10))).zone == ((0, 0, 10, 10),)
+    for x in (63, 64, 65):  # (the index's cells are 64 px)
+        assert not _meets_in(((x + 1, 0, 0, 2),), x)
+        assert _meets_in(((x + 1, 0, 1, 2),), x)
+    assert _meets_in(((-10**30, -5, 2 * 10**30, 10),), 40)
+    assert not _meets_in(((-10**30, 5, 2 * 10**30, 10),), 40)

@@ -79,12 +79,12 @@ class ZoneIndex:
         c = self.CELL
         for box in self.boxes:
             x0, y0, x1, y1 = box
-            across, down = range(x0 // c, (x1 - 1) // c + 1), range(y0 // c, (y1 - 1) // c + 1)
-            if len(across) * len(down) > BINNED:
+            across, down = (x1 - 1) // c + 1 - x0 // c, (y1 - 1) // c + 1 - y0 // c
+            if across * down > BINNED:  # (counted, not a range's len: a ssize_t at most)
                 self.large = True
                 continue
-            for cy in down:
-                for cx in across:
+            for cy in range(y0 // c, y0 // c + down):
+                for cx in range(x0 // c, x0 // c + across):
                     self.cells.setdefault((cx, cy), []).append(box)
 
     def __deepcopy__(self, memo: dict[int, Any]) -> ZoneIndex:

@@ -14,6 +14,7 @@ as a pair handler is in pymunk. The table also names the kinds whose masks chang
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, fields, replace
 from enum import Enum
@@ -63,6 +64,11 @@ class PairRule:
             if not (isinstance(kind, int) and 0 <= kind <= MAX_KIND):
                 raise ValueError(f"kind {kind!r}: a whole number from 0 to {MAX_KIND} (a "
                                  "store keeps the kinds it holds as one bit each)")
+        _member("a_shape", self.a_shape, Shape)
+        _member("b_shape", self.b_shape, Shape)
+        _member("motion", self.motion, Motion)
+        if self.zone is not None:
+            object.__setattr__(self, "zone", zone_of(self.zone))
         masked = {kind for kind in (self.b, self.a) if self.shape_of(kind) is Shape.MASK}
         object.__setattr__(self, "masked", frozenset(masked))
         object.__setattr__(self, "needs_pixels", Shape.MASK in (self.a_shape, self.b_shape))
@@ -78,6 +84,36 @@ class PairRule:
 
     def shape_of(self, kind: int) -> Shape:
         return self.a_shape if kind == self.a else self.b_shape
+
+
+def _member(name: str, value: object, members: type[Enum]) -> None:
+    """Refuse a field that is not of its enum, naming it: a string, its value's, would
+    pass as the other member where a test asks `is Shape.MASK`."""
+    if not isinstance(value, members):
+        raise ValueError(f"{name} {value!r}: one of {', '.join(map(str, members))}")
+
+
+def zone_of(boxes: Any) -> Zone:
+    """A zone as the detector reads it, a tuple of boxes of four Python ints (boxes as
+    lists, and NumPy integers, taken), or a ValueError naming the box that is not one. A box of no
+    width or height holds no pixel, and is left out: it holds nothing, as a `Rect` of
+    none meets nothing."""
+    try:
+        listed = list(boxes)
+    except TypeError:
+        raise ValueError(f"zone {boxes!r}: a tuple of boxes (x, y, width, height)") from None
+    zone = []
+    for box in listed:
+        try:
+            x, y, w, h = (operator.index(v) for v in box)
+        except (TypeError, ValueError):
+            raise ValueError(f"zone box {box!r}: four whole numbers, x, y, width and height "
+                             "(a zone is a tuple of such boxes)") from None
+        if w < 0 or h < 0:
+            raise ValueError(f"zone box {box!r}: a width or height below 0")
+        if w and h:
+            zone.append((x, y, w, h))
+    return tuple(zone)
 
 
 @dataclass(frozen=True)
