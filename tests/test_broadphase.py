@@ -184,6 +184,28 @@ def test_bodies_that_crossed_a_zone_and_stopped_outside_it_are_out_of_it(make):
     assert met == [0, 1, 0]  # (apart at first: side by side)
 
 
+@pytest.mark.parametrize("make", [Grid, CellRects, SortAndSweep, NumpyGrid, Adaptive])
+@pytest.mark.parametrize("size", [100_000, 2**62, 10**30])
+def test_a_zone_of_any_size_holds_the_pairs_inside_it(make, size):
+    """A zone of a box as wide and tall as `size` (from the origin's far side) and a
+    small one: pairs inside either meet, a pair outside both does not. (The numpy broad
+    phase binned the big box in its cells: at 100,000 px 1.8 s and 700 MB, at 2^62 a
+    count that overflowed and met nothing, at 10^30 an OverflowError.)"""
+    from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
+    from invaders.engine.store import BodyStore
+
+    zone = ((-size, -size, size, size), (50, 50, 20, 20))
+    rules = RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, Motion.DISCRETE, zone=zone),))
+    store = BodyStore((1, 2))
+    block = art.mask_of(("####",) * 4)
+    for x, y in ((-30, -30), (52, 52), (200, 200), (-40_000, -90_000)):  # (200: outside)
+        for kind in (1, 2):
+            store.add(Body(store.new_id(), kind, x, y + kind, block))
+    contacts = Detector(make(), rules).detect(store)[0]
+    assert contacts == Detector(Brute(), rules).detect(store)[0]
+    assert [(c.a_id, c.b_id) for c in contacts] == [(1, 2), (3, 4), (7, 8)]
+
+
 def test_every_broad_phase_agrees_tick_by_tick_in_a_game():
     worlds = [World(seed=11, detector=Detector(b, GAME_RULES))
               for b in (Grid(), CellRects(), Brute(), SortAndSweep(), NumpyGrid(), Adaptive())]

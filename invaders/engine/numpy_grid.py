@@ -32,10 +32,13 @@ from invaders.engine.broadphase import (
 )
 from invaders.engine.compiled import mypyc_attr
 from invaders.engine.grid import DEFAULT_CELL, checked_cell
+from invaders.engine.rules import Zone
 
 STRIDE = 1 << 21  # cell key = cy * STRIDE + cx, with cells offset to be non-negative
 OFFSET = 1 << 20
 BEYOND = np.iinfo(np.int64).max  # no cell's key
+INT64_MIN, INT64_MAX = int(np.iinfo(np.int64).min), int(np.iinfo(np.int64).max)
+ZONE_CELLS = 256  # a zone's box over more cells is not binned: bodies are tested one by one
 
 
 @mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
@@ -220,6 +223,20 @@ def box_pairs(a: np.ndarray, b: np.ndarray, cell: int,
     return i, j
 
 
+def _binned(zone: Zone, cell: int) -> tuple[np.ndarray, CellIndex] | None:
+    """A zone's boxes as rows (x0, y0, x1, y1) and binned in cells of `cell` px; or None
+    where a box covers more than ZONE_CELLS of them (one 100,000 px square took 1.8 s and
+    700 MB, one 2^62 px wide overflowed its count and met nothing) or does not fit int64."""
+    for x, y, w, h in zone:
+        across = (x + w - 1) // cell - x // cell + 1
+        down = (y + h - 1) // cell - y // cell + 1
+        fits = min(x, y) >= INT64_MIN and max(x + w, y + h) <= INT64_MAX
+        if across * down > ZONE_CELLS or not fits:
+            return None
+    boxes = np.array([(x, y, x + w, y + h) for x, y, w, h in zone], dtype=np.int64).reshape(-1, 4)
+    return boxes, _index(*_cells(boxes, cell), len(boxes))
+
+
 class NumpyGrid(BroadPhase):
     """Broad phase for big scenes: numpy arrays of boxes, cells joined by sorting."""
 
@@ -230,7 +247,7 @@ class NumpyGrid(BroadPhase):
         self.move_buffer = []
         self.boxes: dict[int, Boxes] = {}
         self.slot: dict[int, int] = {}  # body id -> its row in its kind's table
-        self._zones: dict[int, tuple[ZoneTest, np.ndarray, CellIndex]] = {}
+        self._zones: dict[int, tuple[ZoneTest, tuple[np.ndarray, CellIndex] | None]] = {}
 
     def rebuild(self, scene: Scene, kinds: KindSets) -> None:
         buffer = kept(self.move_buffer)  # the store holds this very list: refill it, never replace
@@ -299,19 +316,19 @@ class NumpyGrid(BroadPhase):
         stored boxes (exact, or a superset for a body that stopped) against the zone's
         boxes at once, then the few that meet one tested exactly. The zone is hashed into
         the grid's own cells, so the kind's cells, worked out for its pairs, serve here too."""
+        kept = self._zones.get(id(zone))
+        if kept is None or kept[0] is not zone:
+            kept = self._zones[id(zone)] = (zone, _binned(zone.zone, self.cell))
+        binned = kept[1]
+        if binned is None:  # (a box too big to bin: each body tested, as by default)
+            return zone.within(scene.by_kind[kind], scene.tick)
         if self.move_buffer:
             self._drain(scene.tick, kinds)
         table = self.boxes.get(kind)
         if table is None or not table.n:
             return []
-        kept = self._zones.get(id(zone))
-        if kept is None or kept[0] is not zone:
-            boxes = np.array([(x, y, x + w, y + h) for x, y, w, h in zone.zone], dtype=np.int64)
-            boxes = boxes.reshape(-1, 4)
-            kept = self._zones[id(zone)] = (zone, boxes, _index(*_cells(boxes, self.cell),
-                                                                len(boxes)))
-        rows, _ = box_pairs(table.xy[:table.n], kept[1], self.cell, table.cells(self.cell),
-                            kept[2])
+        rows, _ = box_pairs(table.xy[:table.n], binned[0], self.cell, table.cells(self.cell),
+                            binned[1])
         if not len(rows):
             return []
         rows = distinct(rows)
