@@ -139,3 +139,39 @@ def test_a_body_at_a_substep_is_its_own_motion_rounded_as_the_path_is():
                     x0 + predicates.round_div((x1 - x0) * step, steps),
                     y0 + predicates.round_div((y1 - y0) * step, steps))
                 assert _at(x0, y0, x1, y1, step, steps) == expected
+
+
+@settings(max_examples=300, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), dx=st.integers(-3000, 3000), dy=st.integers(-3000, 3000),
+       at=st.floats(-0.2, 1.2), jitter=st.tuples(st.integers(-12, 12), st.integers(-12, 12)),
+       from_start=st.booleans())
+def test_a_long_motion_is_walked_where_the_boxes_meet_with_the_paths_answer(
+        seed, dx, dy, at, jitter, from_start):
+    """A motion whose swept mask would be big (its area grows as the square of the motion,
+    and the cache kept each) is walked over the substeps where the boxes overlap alone:
+    the answer of every substep tested in turn, the fixed mask placed near some point of
+    the path (or past either end), and no swept mask made."""
+    rng = random.Random(seed)
+
+    def random_mask() -> pygame.mask.Mask:
+        w, h = rng.randrange(1, 30), rng.randrange(1, 30)
+        return mask(*("".join(rng.choice("#..") for _ in range(w)) for _ in range(h)))
+
+    fixed, moving = random_mask(), random_mask()
+    steps = max(abs(dx), abs(dy))
+    near = predicates.substep(dx, dy, round(at * steps))
+    ox, oy = jitter[0] - near[0], jitter[1] - near[1]
+    path = predicates.substeps(dx, dy)
+    assert all(predicates.substep(dx, dy, i) == path[i] for i in range(0, steps + 1, 97))
+    expected = None
+    for i in range(0 if from_start or not steps else 1, steps + 1):
+        hit = fixed.overlap(moving, (ox + path[i][0], oy + path[i][1]))
+        if hit is not None:
+            expected = (i, steps, hit)
+            break
+    before = len(predicates._swept_cache)
+    assert predicates.first_swept_contact(fixed, moving, ox, oy, dx, dy, from_start) == expected
+    long = (moving.get_size()[0] + abs(dx)) * (moving.get_size()[1] + abs(dy))
+    if long > predicates.SWEPT_BITS:
+        assert (moving, dx, dy) not in predicates._swept_cache
+        assert len(predicates._swept_cache) == before

@@ -418,7 +418,7 @@ class Detector:
         if found is None:
             return None
         step, steps, (hx, hy) = found
-        sx, sy = predicates.substeps(sdx, sdy)[step]
+        sx, sy = predicates.substep(sdx, sdy, step)
         if b_swept:  # the fixed side placed at its own point of the tick, the other from it
             ax, ay = _at(apx, apy, a.x, a.y, step, steps)
             bx, by = ax + ox + sx, ay + oy + sy

@@ -110,10 +110,62 @@ def first_swept_contact(
     if dx or dy:
         swept = _swept_cache.get((moving, dx, dy))  # swept_mask's own cache, read first
         if swept is None:
+            w, h = moving.get_size()
+            if (w + abs(dx)) * (h + abs(dy)) > SWEPT_BITS:
+                return long_touch(fixed, moving, ox, oy, dx, dy, from_start)
             swept = swept_mask(moving, dx, dy)
         if fixed.overlap(swept, (ox + dx if dx < 0 else ox, oy + dy if dy < 0 else oy)) is None:
             return None
     return first_touch(fixed, moving, ox, oy, dx, dy, from_start)
+
+
+SWEPT_BITS = 1 << 16  # a motion whose swept mask would be bigger is walked (`long_touch`)
+
+
+def long_touch(
+    fixed: pygame.mask.Mask, moving: pygame.mask.Mask, ox: int, oy: int, dx: int, dy: int,
+    from_start: bool,
+) -> tuple[int, int, Point] | None:
+    """`first_touch` for a long motion, with no swept mask (its area grows as the square
+    of the motion, and the cache kept each): only the substeps at which the boxes overlap
+    are walked, a few more than the boxes are long along the motion, however far it goes.
+    Those are one run of substeps, as each axis's position along the path is monotone."""
+    (fw, fh), (mw, mh) = fixed.get_size(), moving.get_size()
+    steps = max(abs(dx), abs(dy))
+    first, last = 0 if from_start else 1, steps
+    for start, move, low, high in ((ox, dx, -mw, fw), (oy, dy, -mh, fh)):
+        # (on this axis the boxes overlap while low < position < high)
+        enter, leave = (low, high - 1) if move >= 0 else (high, low + 1)
+        first = max(first, _first_past(start, move, steps, enter))
+        last = min(last, _first_past(start, move, steps, leave) - 1)
+    for i in range(first, last + 1):
+        hit = fixed.overlap(moving, (ox + round_div(i * dx, steps), oy + round_div(i * dy, steps)))
+        if hit is not None:
+            return i, steps, hit
+    return None
+
+
+def _first_past(start: int, move: int, steps: int, bound: int) -> int:
+    """The least substep i (0 to steps) at which start + round_div(i * move, steps) is past
+    `bound` the way it moves (above it for a move of 0 or more, below it for one back), or
+    steps + 1 if none is: the positions are monotone, so a binary search finds it."""
+    low, high = 0, steps + 1
+    while low < high:
+        mid = (low + high) // 2
+        position = start + round_div(mid * move, steps)
+        if position > bound if move >= 0 else position < bound:
+            high = mid
+        else:
+            low = mid + 1
+    return low
+
+
+def substep(dx: int, dy: int, step: int) -> Point:
+    """`substeps(dx, dy)[step]`, without making the others (a long motion's are many)."""
+    steps = max(abs(dx), abs(dy))
+    if steps == 0:
+        return 0, 0
+    return round_div(step * dx, steps), round_div(step * dy, steps)
 
 
 def first_touch(
