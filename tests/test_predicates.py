@@ -148,9 +148,10 @@ def test_a_body_at_a_substep_is_its_own_motion_rounded_as_the_path_is():
 def test_a_long_motion_is_walked_where_the_boxes_meet_with_the_paths_answer(
         seed, dx, dy, at, jitter, from_start):
     """A motion whose swept mask would be big (its area grows as the square of the motion,
-    and the cache kept each) is walked over the substeps where the boxes overlap alone:
-    the answer of every substep tested in turn, the fixed mask placed near some point of
-    the path (or past either end), and no swept mask made."""
+    and the cache kept each), or whose path is long (kept too), is walked over the
+    substeps where the boxes overlap alone: the answer of every substep tested in turn,
+    the fixed mask placed near some point of the path (or past either end), and no swept
+    mask made nor path kept."""
     rng = random.Random(seed)
 
     def random_mask() -> pygame.mask.Mask:
@@ -170,8 +171,10 @@ def test_a_long_motion_is_walked_where_the_boxes_meet_with_the_paths_answer(
             expected = (i, steps, hit)
             break
     before = len(predicates._swept_cache)
+    predicates.substeps.cache_clear()
     assert predicates.first_swept_contact(fixed, moving, ox, oy, dx, dy, from_start) == expected
     long = (moving.get_size()[0] + abs(dx)) * (moving.get_size()[1] + abs(dy))
-    if long > predicates.SWEPT_BITS:
+    if long > predicates.SWEPT_BITS or steps > predicates.LONG_STEPS:
         assert (moving, dx, dy) not in predicates._swept_cache
         assert len(predicates._swept_cache) == before
+        assert predicates.substeps.cache_info().currsize == 0

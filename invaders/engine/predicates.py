@@ -111,7 +111,8 @@ def first_swept_contact(
         swept = _swept_cache.get((moving, dx, dy))  # swept_mask's own cache, read first
         if swept is None:
             w, h = moving.get_size()
-            if (w + abs(dx)) * (h + abs(dy)) > SWEPT_BITS:
+            ax, ay = abs(dx), abs(dy)
+            if ax > LONG_STEPS or ay > LONG_STEPS or (w + ax) * (h + ay) > SWEPT_BITS:
                 return long_touch(fixed, moving, ox, oy, dx, dy, from_start)
             swept = swept_mask(moving, dx, dy)
         if fixed.overlap(swept, (ox + dx if dx < 0 else ox, oy + dy if dy < 0 else oy)) is None:
@@ -119,7 +120,10 @@ def first_swept_contact(
     return first_touch(fixed, moving, ox, oy, dx, dy, from_start)
 
 
-SWEPT_BITS = 1 << 16  # a motion whose swept mask would be bigger is walked (`long_touch`)
+# A motion whose swept mask would be bigger, or longer (its path's substeps are kept too),
+# is walked by `long_touch`, with neither.
+SWEPT_BITS = 1 << 16
+LONG_STEPS = 256
 
 
 def long_touch(
@@ -127,9 +131,10 @@ def long_touch(
     from_start: bool,
 ) -> tuple[int, int, Point] | None:
     """`first_touch` for a long motion, with no swept mask (its area grows as the square
-    of the motion, and the cache kept each): only the substeps at which the boxes overlap
-    are walked, a few more than the boxes are long along the motion, however far it goes.
-    Those are one run of substeps, as each axis's position along the path is monotone."""
+    of the motion, and the cache kept each) nor path (kept too): only the substeps at
+    which the boxes overlap are walked, a few more than the boxes are long along the
+    motion, however far it goes. Those are one run of substeps, as each axis's position
+    along the path is monotone."""
     (fw, fh), (mw, mh) = fixed.get_size(), moving.get_size()
     steps = max(abs(dx), abs(dy))
     first, last = 0 if from_start else 1, steps
