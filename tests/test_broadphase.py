@@ -206,6 +206,45 @@ def test_a_zone_of_any_size_holds_the_pairs_inside_it(make, size):
     assert [(c.a_id, c.b_id) for c in contacts] == [(1, 2), (3, 4), (7, 8)]
 
 
+@pytest.mark.parametrize("make", [Grid, CellRects, SortAndSweep, NumpyGrid, Adaptive])
+def test_bodies_swept_across_a_world_in_a_tick_meet_as_brute_forces_do(make):
+    """Bodies that now and then jump up to a million pixels in a tick and back, swept (a
+    box a million pixels square over the tick), among bodies that move a few: every
+    tick's contacts are brute force's, for an entry of two kinds and one of one kind with
+    itself. (The grid binned such a box in a billion cells, a minute a tick; the numpy
+    broad phase ran out of memory.)"""
+    from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
+    from invaders.engine.store import BodyStore
+
+    rules = RuleTable((PairRule(1, 2, Shape.BOX, Shape.MASK, Motion.SWEPT),
+                       PairRule(2, 2, Shape.MASK, Shape.MASK, Motion.SWEPT),
+                       PairRule(3, 1, Shape.BOX, Shape.BOX, Motion.DISCRETE)))
+    store = BodyStore((1, 2, 3))
+    rng = random.Random(4)
+    masks = [art.mask_of(("####", "#..#", "####")), art.mask_of(("##",) * 5)]
+    bodies = [Body(store.new_id(), kind, rng.randrange(0, 160), rng.randrange(0, 160),
+                   rng.choice(masks)) for kind in (1, 2, 3) for _ in range(12)]
+    for body in bodies:
+        store.add(body)
+    ours, brute = Detector(make(), rules), Detector(Brute(), rules)
+    contacts = jumps = 0
+    for _ in range(60):
+        store.tick += 1
+        for body in rng.sample(bodies, 20):
+            if abs(body.x) > 1000 or rng.random() < 0.1:  # a jump out, or back
+                far = rng.choice([10**5, 10**6]) * rng.choice([-1, 1])
+                x, y = (rng.randrange(0, 160), rng.randrange(0, 160)) if abs(body.x) > 1000 \
+                    else (body.x + far, body.y + rng.choice([0, far, -far]))
+                jumps += 1
+            else:
+                x, y = body.x + rng.randrange(-6, 7), body.y + rng.randrange(-6, 7)
+            store.move(body, x, y)
+        found = ours.detect(store)[0]
+        assert found == brute.detect(store)[0]
+        contacts += len(found)
+    assert contacts > 60 and jumps > 60
+
+
 def test_every_broad_phase_agrees_tick_by_tick_in_a_game():
     worlds = [World(seed=11, detector=Detector(b, GAME_RULES))
               for b in (Grid(), CellRects(), Brute(), SortAndSweep(), NumpyGrid(), Adaptive())]
@@ -579,6 +618,38 @@ def test_numpy_box_pairs_are_the_overlapping_boxes_each_once(seed, cell, a_size,
     assert sorted(found) == expected
 
 
+@settings(max_examples=80, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), cell=st.sampled_from([3, 8, 32]))
+def test_numpy_box_pairs_meet_boxes_too_large_to_bin_box_by_box(seed, cell):
+    """Boxes of a few cells and boxes of millions (up to 10^6 px a side, and a few cells
+    wide but a world long), on either side: exactly the overlapping pairs, each once."""
+    import numpy as np
+
+    from invaders.engine.grid import LARGE_CELLS
+    from invaders.engine.numpy_grid import _cells, box_pairs
+
+    rng = random.Random(seed)
+
+    def boxes(n: int) -> np.ndarray:
+        rows = []
+        for _ in range(n):
+            x, y = rng.randrange(-200, 200), rng.randrange(-200, 200)
+            w, h = rng.choice([(rng.randrange(1, 40), rng.randrange(1, 40)),
+                               (rng.randrange(1, 10**6), rng.randrange(1, 10**6)),
+                               (rng.randrange(1, 20), 10**6)])
+            rows.append((x - w // 2, y - h // 2, x - w // 2 + w, y - h // 2 + h))
+        return np.array(rows, dtype=np.int64).reshape(-1, 4)
+
+    a, b = boxes(rng.randrange(0, 20)), boxes(rng.randrange(0, 20))
+    i, j = box_pairs(a, b, cell)
+    expected = [(p, q) for p in range(len(a)) for q in range(len(b))
+                if a[p, 0] < b[q, 2] and b[q, 0] < a[p, 2]
+                and a[p, 1] < b[q, 3] and b[q, 1] < a[p, 3]]
+    assert sorted(zip(i.tolist(), j.tolist(), strict=True)) == expected
+    keys, rows, large = _cells(np.concatenate([a, b]), cell)
+    assert len(keys) <= LARGE_CELLS * (len(a) + len(b))  # (what binning cost)
+
+
 @settings(max_examples=60, deadline=None)
 @given(values=st.lists(st.integers(-(2**40), 2**40), max_size=60), repeats=st.integers(1, 3))
 def test_distinct_is_numpys_unique(values, repeats):
@@ -604,7 +675,8 @@ def test_numpy_cells_are_every_cell_each_box_covers(seed, cell, size):
     for _ in range(rng.randrange(1, 25)):
         x, y = rng.randrange(-100, 100), rng.randrange(-100, 100)
         rows.append((x, y, x + rng.randrange(1, size + 1), y + rng.randrange(1, size + 1)))
-    keys, of = _cells(np.array(rows, dtype=np.int64), cell)
+    keys, of, large = _cells(np.array(rows, dtype=np.int64), cell)
+    assert not len(large)  # (at most 24 x 24 cells: none too large to bin)
     found = list(zip(of.tolist(), keys.tolist(), strict=True))
     expected = [(r, (cy + OFFSET) * STRIDE + cx + OFFSET)
                 for r, (x0, y0, x1, y1) in enumerate(rows)

@@ -23,13 +23,25 @@ from invaders.engine.broadphase import (
     pair_key,
 )
 from invaders.engine.compiled import mypyc_attr
+from invaders.engine.rules import PairRule
 
 # px: about the size of the game's bodies and gaps. `invaders study` times 4 to 128 px on
 # each scene (docs/study.md); larger cells gain little at game scale and lose in storms.
 DEFAULT_CELL = 32
 FEW_MOVES = 8  # bodies in the move buffer up to which a body keeps a larger range
+LARGE_CELLS = 1024  # a body whose range has more cells is not binned (`Grid.large`)
 CellRange = tuple[int, int, int, int]
 NONE: CellRange = (1, 1, 0, 0)  # a range of no cells
+
+
+def is_large(r: CellRange) -> bool:
+    """Whether a range has too many cells to bin: its body is met by its range alone."""
+    return (r[2] - r[0] + 1) * (r[3] - r[1] + 1) > LARGE_CELLS
+
+
+def ranges_meet(r: CellRange, q: CellRange) -> bool:
+    """Whether two ranges share a cell (what binning both would find)."""
+    return r[0] <= q[2] and q[0] <= r[2] and r[1] <= q[3] and q[1] <= r[3]
 
 
 def checked_cell(cell: int) -> int:
@@ -54,6 +66,11 @@ class Grid(BroadPhase):
     and the last answer stands more often. When many move (a storm) the grid looks every
     tick anyway, and larger ranges would only add candidates (a quarter more at 10,000
     bodies): a body then gets no fence, so its range stays exact.
+
+    A body whose range covers more than LARGE_CELLS cells (one the size of a world, or
+    swept across one in a tick) is not binned: it is kept aside in `large` and met by
+    ranges, against every body of the other side, so its cost grows with the bodies, not
+    with its area (binning one swept a million pixels took a minute).
     """
 
     name = "grid"
@@ -67,6 +84,7 @@ class Grid(BroadPhase):
         # empty in the other layer skips its cells at the cost of one look-up per row.
         self.rows: dict[int, dict[int, int]] = {}
         self.ranges: dict[int, CellRange] = {}  # every live body's, binned or not
+        self.large: dict[int, dict[int, Body]] = {}  # per kind, its bodies too large to bin
         self.rebins = 0  # how many times a body changed cells (for the study and tests)
         self.version = 0  # moves whenever a body's range does, or a body comes or goes
         self._last: tuple[int, Sequence[Group], tuple[Pair, ...]] | None = None  # last answer
@@ -78,6 +96,7 @@ class Grid(BroadPhase):
         self.layers = {kind: {} for kind in scene.by_kind}
         self.rows = {kind: {} for kind in scene.by_kind}
         self.ranges = {}
+        self.large = {}
         kept(self.move_buffer).extend(body for bodies in scene.by_kind.values() for body in bodies)
         self._drain(scene.tick, kinds)
         self.version += 1
@@ -98,7 +117,7 @@ class Grid(BroadPhase):
                 old = ranges.get(body.id)
                 if old is not None:
                     if body.kind in probed:
-                        self._unbin(body, old)
+                        self._move_large(body, old, None)
                     del ranges[body.id]
                     changed = True
                 continue
@@ -115,7 +134,10 @@ class Grid(BroadPhase):
             old = ranges.get(body.id)
             if new != old:
                 if body.kind in probed:
-                    if old is None:
+                    if ((cx1 - cx0 + 1) * (cy1 - cy0 + 1) > LARGE_CELLS  # (is_large, inline)
+                            or (self.large and old is not None and is_large(old))):
+                        self._move_large(body, old, new)  # (rare: a body too large to bin)
+                    elif old is None:
                         self._bin(body, new)
                     else:
                         self._unbin(body, old, new)
@@ -151,6 +173,23 @@ class Grid(BroadPhase):
                     cell.append(body)
             if added:
                 rows[cy] = rows.get(cy, 0) + added
+
+    def _move_large(self, body: Body, old: CellRange | None, new: CellRange | None) -> None:
+        """Take the body out of range `old` and put it in `new` (None: none), either of
+        which may be too large to bin: such a body is kept in `large` instead of cells."""
+        if old is not None:
+            if is_large(old):
+                large = self.large[body.kind]
+                del large[body.id]
+                if not large:
+                    del self.large[body.kind]
+            else:
+                self._unbin(body, old)
+        if new is not None:
+            if is_large(new):
+                self.large.setdefault(body.kind, {})[body.id] = body
+            else:
+                self._bin(body, new)
 
     def _unbin(self, body: Body, r: CellRange, keep: CellRange = NONE) -> None:
         """Take the body out of the cells of range r but those of `keep`. (It walks the
@@ -199,12 +238,17 @@ class Grid(BroadPhase):
         probed = kinds.probed
         all_rows = self.rows
         layers = self.layers
+        all_large = self.large
         for rule, probes, others in groups:
             rows = all_rows.get(rule.b)
+            kind_a = rule.a
+            if rule.b in all_large:  # (rare: a body of the other side too large to bin)
+                self._query_large(rule, probes, others, out)
+                continue
             if not rows:
                 continue
-            kind_a = rule.a
-            if kind_a in probed and rows.keys().isdisjoint(all_rows.get(kind_a, ())):
+            if (kind_a in probed and kind_a not in all_large
+                    and rows.keys().isdisjoint(all_rows.get(kind_a, ()))):
                 continue  # both kinds binned, and no cell row holds both: nothing can meet
             layer = layers[rule.b]
             allowed = None if rule.zone is None else {b.id for b in others}
@@ -219,7 +263,10 @@ class Grid(BroadPhase):
                             if allowed is None or other.id in allowed:
                                 out.append(ordered(probe, other, rule))
                         continue
-                else:
+                if (cx1 - cx0 + 1) * (cy1 - cy0 + 1) > LARGE_CELLS:  # (is_large, inline)
+                    self._query_large(rule, (probe,), others, out)
+                    continue
+                if cy0 != cy1:
                     for cy in range(cy0, cy1 + 1):
                         if cy in rows:
                             break
@@ -236,3 +283,15 @@ class Grid(BroadPhase):
         if len(out) > 1:
             out.sort(key=pair_key)
         return out
+
+    def _query_large(self, rule: PairRule, probes: Sequence[Body], others: Sequence[Body],
+                     out: list[Pair]) -> None:
+        """Where a body is too large to bin (one of the other side, or the probe): each
+        probe meets every other body whose range shares a cell with its own, what the
+        cells would find, and the other side's bodies need not be binned."""
+        ranges = self.ranges
+        for probe in probes:
+            r = ranges[probe.id]
+            for other in others:
+                if ranges_meet(r, ranges[other.id]):
+                    out.append(ordered(probe, other, rule))

@@ -31,7 +31,7 @@ from invaders.engine.broadphase import (
     kept,
 )
 from invaders.engine.compiled import mypyc_attr
-from invaders.engine.grid import DEFAULT_CELL, checked_cell
+from invaders.engine.grid import DEFAULT_CELL, LARGE_CELLS, checked_cell
 from invaders.engine.rules import Zone
 
 STRIDE = 1 << 21  # cell key = cy * STRIDE + cx, with cells offset to be non-negative
@@ -62,9 +62,9 @@ class Boxes:
         """The bodies, row by row."""
         return self.objects[:self.n].tolist()
 
-    def cells(self, cell: int) -> tuple[np.ndarray, np.ndarray]:
-        """(cell key, row) of every cell each box covers; kept until a row changes, so a
-        kind that does not move is hashed once."""
+    def cells(self, cell: int) -> Cells:
+        """`_cells` of the boxes: kept until a row changes, so a kind that does not move is
+        hashed once."""
         kept = self._kept.get(("cells", cell))
         if kept is not None and kept[0] == self.version:
             return kept[1]
@@ -138,48 +138,56 @@ def _tick_boxes(raw: np.ndarray, moved: np.ndarray) -> np.ndarray:
     return out
 
 
-def _cells(xy: np.ndarray, cell: int) -> tuple[np.ndarray, np.ndarray]:
+Cells = tuple[np.ndarray, np.ndarray, np.ndarray]  # keys, their rows, the rows too large
+NO_ROWS = np.zeros(0, dtype=np.int64)
+
+
+def _cells(xy: np.ndarray, cell: int) -> Cells:
     """(cell key, row) for every cell each box covers, row by row, each row's cells in
-    row-major order."""
+    row-major order; and the rows of boxes over LARGE_CELLS cells, left out of the keys
+    (one swept a million pixels would have been a billion keys: `box_pairs` meets these
+    box by box)."""
     c0 = xy[:, :2] // cell
     c1 = (xy[:, 2:] - 1) // cell
     x0, y0 = c0[:, 0] + OFFSET, (c0[:, 1] + OFFSET) * STRIDE
     x1, y1 = c1[:, 0] + OFFSET, (c1[:, 1] + OFFSET) * STRIDE
     wide, tall = x1 != x0, y1 != y0
     if not (wide.any() or tall.any()):  # every box in one cell: the common case
-        return y0 + x0, np.arange(len(xy))
+        return y0 + x0, np.arange(len(xy)), NO_ROWS
     if (x1 - x0).max() <= 1 and (y1 - y0).max() <= STRIDE:  # at most 2x2 cells each
         keys = np.stack([y0 + x0, y0 + x1, y1 + x0, y1 + x1], axis=1)
         keep = np.stack([np.ones(len(xy), dtype=bool), wide, tall, wide & tall], axis=1)
         kept = np.flatnonzero(keep)  # row * 4 + corner: a flat pick is ~4x a 2-D one
-        return keys.take(kept), kept >> 2
+        return keys.take(kept), kept >> 2, NO_ROWS
     span = c1 - c0 + 1  # boxes wider than a cell: every cell of each, counted out
+    large = np.flatnonzero(span[:, 0].astype(np.float64) * span[:, 1] > LARGE_CELLS)
     counts = span[:, 0] * span[:, 1]
+    counts[large] = 0  # (counted in floats above: a world-sized box's count overflows)
     rows = np.repeat(np.arange(len(xy)), counts)
     first = np.repeat(np.cumsum(counts) - counts, counts)
     k = np.arange(len(rows)) - first
     width = span[rows, 0]
     cx = c0[rows, 0] + k % width
     cy = c0[rows, 1] + k // width
-    return (cy + OFFSET) * STRIDE + (cx + OFFSET), rows
+    return (cy + OFFSET) * STRIDE + (cx + OFFSET), rows, large
 
 
-CellIndex = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool]
+CellIndex = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool, np.ndarray]
 
 
-def _index(keys: np.ndarray, rows: np.ndarray, boxes: int) -> CellIndex:
+def _index(keys: np.ndarray, rows: np.ndarray, large: np.ndarray, boxes: int) -> CellIndex:
     """Cells to look up: each distinct key once, sorted (and then `BEYOND`), with where its
-    rows start in the rows sorted by key and how many there are; and whether each row has
-    one cell."""
+    rows start in the rows sorted by key and how many there are; whether each row binned
+    has one cell; and the rows too large to bin."""
     order = np.argsort(keys)  # any order within a key: the pairs are sorted by ids later
     keys, by_key = keys[order], rows[order]
     if not len(keys):
-        return keys, keys, keys, by_key, True
+        return keys, keys, keys, by_key, True, large
     starts = np.flatnonzero(np.concatenate(([True], keys[1:] != keys[:-1])))
     counts = np.diff(np.append(starts, len(keys)))
-    single = len(rows) == boxes
+    single = len(rows) == boxes - len(large)
     # A key above every cell's ends the distinct keys, so a search never runs off them.
-    return np.append(keys[starts], BEYOND), starts, counts, by_key, single
+    return np.append(keys[starts], BEYOND), starts, counts, by_key, single, large
 
 
 def distinct(values: np.ndarray) -> np.ndarray:
@@ -191,14 +199,40 @@ def distinct(values: np.ndarray) -> np.ndarray:
     return values[np.concatenate(([True], values[1:] != values[:-1]))]
 
 
-def box_pairs(a: np.ndarray, b: np.ndarray, cell: int,
-              a_cells: tuple[np.ndarray, np.ndarray] | None = None,
+def box_pairs(a: np.ndarray, b: np.ndarray, cell: int, a_cells: Cells | None = None,
               b_index: CellIndex | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Rows (i, j) of boxes a[i] and b[j] that overlap, each pair once, by way of the
-    cells they share (`a_cells` and `b_index`, if already worked out)."""
-    ka, ra = a_cells if a_cells is not None else _cells(a, cell)
-    keys, starts, counts, rb, b_single = b_index if b_index is not None else _index(
-        *_cells(b, cell), len(b))
+    cells they share (`a_cells` and `b_index`, if already worked out); a box too large
+    to bin is met box by box."""
+    a_cells = a_cells if a_cells is not None else _cells(a, cell)
+    b_index = b_index if b_index is not None else _index(*_cells(b, cell), len(b))
+    i, j = _shared_cells(a, b, a_cells, b_index)
+    large_a, large_b = a_cells[2], b_index[5]
+    if not (len(large_a) or len(large_b)):
+        return i, j
+    found_i, found_j = [i], [j]
+    for row in large_a.tolist():  # with every box of b
+        met = _meeting(b, a[row])
+        found_i.append(np.full(len(met), row, dtype=np.int64))
+        found_j.append(met)
+    for row in large_b.tolist():  # with every box of a not met above
+        met = np.setdiff1d(_meeting(a, b[row]), large_a)
+        found_i.append(met)
+        found_j.append(np.full(len(met), row, dtype=np.int64))
+    return np.concatenate(found_i), np.concatenate(found_j)
+
+
+def _meeting(boxes: np.ndarray, box: np.ndarray) -> np.ndarray:
+    """The rows of `boxes` that overlap `box`."""
+    return np.flatnonzero((boxes[:, 0] < box[2]) & (box[0] < boxes[:, 2])
+                          & (boxes[:, 1] < box[3]) & (box[1] < boxes[:, 3]))
+
+
+def _shared_cells(a: np.ndarray, b: np.ndarray, a_cells: Cells, b_index: CellIndex
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """`box_pairs` of the binned boxes: those that share a cell and overlap, each once."""
+    ka, ra, large_a = a_cells
+    keys, starts, counts, rb, b_single, _ = b_index
     if not len(keys) or not len(ka):
         empty = np.zeros(0, dtype=np.int64)
         return empty, empty
@@ -217,7 +251,7 @@ def box_pairs(a: np.ndarray, b: np.ndarray, cell: int,
            & (ai[:, 1] < bj[:, 3]) & (bj[:, 1] < ai[:, 3]))
     i, j = i[hit], j[hit]
     # A pair can share several cells only if both boxes cover more than one: then once.
-    if len(i) > 1 and not b_single and len(ka) > len(a):
+    if len(i) > 1 and not b_single and len(ka) > len(a) - len(large_a):
         key = distinct(i * len(b) + j)
         i, j = key // len(b), key % len(b)
     return i, j
