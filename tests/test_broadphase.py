@@ -646,8 +646,12 @@ def test_numpy_box_pairs_meet_boxes_too_large_to_bin_box_by_box(seed, cell):
                 if a[p, 0] < b[q, 2] and b[q, 0] < a[p, 2]
                 and a[p, 1] < b[q, 3] and b[q, 1] < a[p, 3]]
     assert sorted(zip(i.tolist(), j.tolist(), strict=True)) == expected
-    keys, rows, large = _cells(np.concatenate([a, b]), cell)
-    assert len(keys) <= LARGE_CELLS * (len(a) + len(b))  # (what binning cost)
+    both = np.concatenate([a, b])
+    keys, rows, large = _cells(both, cell)
+    cells = [((x1 - 1) // cell - x0 // cell + 1) * ((y1 - 1) // cell - y0 // cell + 1)
+             for x0, y0, x1, y1 in both.tolist()]
+    assert large.tolist() == [r for r, n in enumerate(cells) if n > LARGE_CELLS]
+    assert len(keys) == len(rows) == sum(n for n in cells if n <= LARGE_CELLS)
 
 
 @settings(max_examples=60, deadline=None)
