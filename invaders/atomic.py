@@ -53,14 +53,26 @@ def _permissions(fd: int, replacing: Path | None) -> None:
     except OSError:  # (nothing there yet)
         old = None
     if old is None:
-        umask = os.umask(0)
-        os.umask(umask)
-        os.fchmod(fd, 0o666 & ~umask)
+        os.fchmod(fd, 0o666 & ~_umask())
         return
     if hasattr(os, "fchown") and (old.st_uid, old.st_gid) != (os.geteuid(), os.getegid()):
         with contextlib.suppress(PermissionError):  # (only root gives a file away)
             os.fchown(fd, old.st_uid, old.st_gid)
     os.fchmod(fd, old.st_mode & 0o777)  # (its read, write and run bits)
+
+
+def _umask() -> int:
+    """The process's umask, read where the system says it (Linux: /proc/self/status);
+    elsewhere by setting it and setting it back, which for that instant gives a file
+    another thread makes every permission."""
+    with (contextlib.suppress(OSError, ValueError),
+          open("/proc/self/status", encoding="ascii", errors="replace") as status):
+        for line in status:
+            if line.startswith("Umask:"):
+                return int(line.split()[1], 8)
+    umask = os.umask(0)
+    os.umask(umask)
+    return umask
 
 
 def write_atomic(path: str | os.PathLike[str], text: str) -> tuple[int, int]:

@@ -22,7 +22,7 @@ import pytest
 from invaders.app import cli
 from invaders.app.cli import main
 from invaders.app.report import CounterTable
-from invaders.atomic import append_whole
+from invaders.atomic import append_whole, write_atomic
 from invaders.engine.stats import STAT_FIELDS, CollisionStats
 from invaders.game.replay import load, run
 from tests.helpers import FullStream
@@ -110,6 +110,25 @@ def test_a_replaced_file_keeps_its_permissions_and_a_new_one_gets_the_usual(caps
     capsys.readouterr()
     assert (private.stat().st_mode & 0o777, new.stat().st_mode & 0o777) == (0o600, 0o640)
     assert load(private).ticks == 5
+
+
+@pytest.mark.skipif(not hasattr(os, "fchmod") or not os.path.exists("/proc/self/status"),
+                    reason="the system does not say the umask")
+def test_a_new_files_permissions_read_the_umask_without_setting_it(tmp_path, monkeypatch):
+    """The umask was read by setting it to 0 and back, and a file another thread made in
+    that instant got every permission; where the system says it (Linux), it is read, and
+    a new file still gets 0666 less it, under either umask."""
+    modes = []
+    for umask in (0o077, 0o002):
+        old = os.umask(umask)
+        try:
+            with monkeypatch.context() as patch:
+                patch.setattr(os, "umask", lambda mask: pytest.fail("the umask was set"))
+                write_atomic(tmp_path / f"new-{umask:o}.json", "{}")
+        finally:
+            os.umask(old)
+        modes.append((tmp_path / f"new-{umask:o}.json").stat().st_mode & 0o777)
+    assert modes == [0o600, 0o664]
 
 
 @pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0,
