@@ -7,6 +7,7 @@ import contextlib
 import itertools
 import os
 import tempfile
+import time
 import weakref
 from collections.abc import Iterator
 from pathlib import Path
@@ -209,13 +210,19 @@ def append_whole(fd: int, text: str) -> None:
         raise
 
 
+STALE_AFTER = 60  # s since a temporary file was last written: past it, no writer has it
+
+
 def clean_stale(path: str | os.PathLike[str]) -> None:
-    """Remove temporary files an interrupted atomic write of `path` left beside it."""
+    """Remove temporary files an interrupted atomic write of `path` left beside it: those
+    untouched for STALE_AFTER seconds. A newer one may be another writer's, mid-write (a
+    second recording of the same name, saving): removing it failed that save."""
     target = Path(path)
     folder = target.parent if str(target.parent) else Path(".")
     for stale in folder.glob(glob_escape(temporary_prefix(target)) + "*" + TEMPORARY_SUFFIX):
         with contextlib.suppress(OSError):
-            stale.unlink()
+            if time.time() - stale.stat().st_mtime > STALE_AFTER:
+                stale.unlink()
 
 
 def glob_escape(name: str) -> str:

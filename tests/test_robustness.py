@@ -14,6 +14,7 @@ import statistics
 import subprocess
 import sys
 import textwrap
+import time
 from collections import Counter
 from pathlib import Path
 
@@ -372,10 +373,16 @@ def test_a_signal_stops_a_recording_run_on_a_whole_tick_and_saves_it(
 
 
 def test_a_stale_temporary_file_is_cleaned_at_the_next_save(tmp_path):
-    stale = tmp_path / ".game.json.abc123.tmp"
+    """One left two minutes ago by a kill goes; one written a moment ago, as another
+    recording of the same name writes its file, stays (removing it failed that save)."""
+    stale, busy = tmp_path / ".game.json.abc123.tmp", tmp_path / ".game.json.def456.tmp"
     stale.write_text("left by a kill")
+    busy.write_text("being written")
+    two_minutes_ago = time.time() - 120
+    os.utime(stale, (two_minutes_ago, two_minutes_ago))
     assert main(["run", "--ticks", "70", "--record", str(tmp_path / "game.json")]) == 0
-    assert [p.name for p in tmp_path.iterdir()] == ["game.json"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".game.json.def456.tmp",
+                                                          "game.json"]
 
 
 def test_the_summary_medians_and_totals_are_exact_from_value_counts():
