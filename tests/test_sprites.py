@@ -263,6 +263,29 @@ def test_sprites_without_masks_meet_as_pygames_rects_do_sizes_negative_and_zero(
     assert GroupCollide()(*groups) == expected
 
 
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), motion=st.sampled_from(list(Motion)),
+       broadphase=st.sampled_from(["grid", "brute", "sweep", "numpy", "rects"]))
+def test_box_entries_meet_as_pygames_rects_do_sizes_negative_and_zero(seed, motion,
+                                                                      broadphase):
+    """An entry of boxes, any motion, on still sprites without masks: the pairs pygame's
+    `colliderect` finds. A rect of no width or height meets nothing (a discrete or landing
+    entry met one lying inside another's box, and the broad phases disagreed on it)."""
+    rng = random.Random(seed)
+    groups = [[], []]
+    for i in range(16):
+        thing = Thing(0, 0, None)
+        thing.rect = pygame.Rect(rng.randrange(-10, 40), rng.randrange(-10, 40),
+                                 rng.choice([0, 0, rng.randrange(-12, 13)]),
+                                 rng.choice([0, rng.randrange(-12, 13)]))
+        groups[i % 2].append(thing)
+    rules = RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, motion),))
+    found = {(c.a, c.b) for c in SpriteCollider(rules, broadphase).collide(
+        {1: groups[0], 2: groups[1]})}
+    expected = pygame.sprite.groupcollide(*groups, False, False)
+    assert found == {(a, b) for a, bs in expected.items() for b in bs}
+
+
 def test_a_sprite_without_a_mask_of_negative_size_is_swept_as_its_box_made_positive():
     rules = RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, Motion.SWEPT),))
     found = []

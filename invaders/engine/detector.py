@@ -387,8 +387,10 @@ class Detector:
                 _shape_mask(a, rule), a.x, a.y, _shape_mask(b, rule), b.x, b.y)
             if point is None:
                 return None
-        else:
+        elif a.w and a.h and b.w and b.h:
             point = (max(a.x, b.x), max(a.y, b.y))
+        else:  # (a box of no pixel meets nothing, as in the pixel tests and pygame's rects)
+            return None
         time = impact_time(1, 1)
         if rule.motion is not LANDING:
             walked = self._walk(a, b, rule, tick)
