@@ -595,7 +595,11 @@ def test_a_move_is_heard_though_finding_a_zones_bodies_took_it_from_the_buffer(n
        a_size=st.integers(1, 40), b_size=st.integers(1, 40))
 def test_numpy_box_pairs_are_the_overlapping_boxes_each_once(seed, cell, a_size, b_size):
     """Boxes that cover one cell each and boxes that cover many (where a pair shares several
-    cells and must still come out once): exactly the pairs brute force finds overlapping."""
+    cells and must still come out once): exactly the pairs brute force finds overlapping.
+    Among them boxes of no width or height, which have no pixel, so no pair of theirs
+    matters, but which may have no cell: one such and one of two cells on a side made
+    its cells as many as its boxes, taken as one cell each, and a pair sharing two cells
+    came out twice."""
     import numpy as np
 
     from invaders.engine.numpy_grid import box_pairs
@@ -606,16 +610,36 @@ def test_numpy_box_pairs_are_the_overlapping_boxes_each_once(seed, cell, a_size,
         rows = []
         for _ in range(n):
             x, y = rng.randrange(-50, 50), rng.randrange(-50, 50)
-            rows.append((x, y, x + rng.randrange(1, size + 1), y + rng.randrange(1, size + 1)))
+            rows.append((x, y, x + rng.randrange(0, size + 1), y + rng.randrange(0, size + 1)))
         return np.array(rows, dtype=np.int64).reshape(-1, 4)
 
     a, b = boxes(rng.randrange(0, 30), a_size), boxes(rng.randrange(0, 30), b_size)
     i, j = box_pairs(a, b, cell)
     found = list(zip(i.tolist(), j.tolist(), strict=True))
+    assert len(found) == len(set(found))
+    empty = {("a", p) for p in range(len(a)) if a[p, 2] == a[p, 0] or a[p, 3] == a[p, 1]} | {
+        ("b", q) for q in range(len(b)) if b[q, 2] == b[q, 0] or b[q, 3] == b[q, 1]}
     expected = [(p, q) for p in range(len(a)) for q in range(len(b))
                 if a[p, 0] < b[q, 2] and b[q, 0] < a[p, 2]
-                and a[p, 1] < b[q, 3] and b[q, 1] < a[p, 3]]
-    assert sorted(found) == expected
+                and a[p, 1] < b[q, 3] and b[q, 1] < a[p, 3]
+                and ("a", p) not in empty and ("b", q) not in empty]
+    assert sorted(pair for pair in found if ("a", pair[0]) not in empty
+                  and ("b", pair[1]) not in empty) == expected
+
+
+def test_a_box_of_no_cell_does_not_hide_a_pair_that_shares_two():
+    """Found by a search against the oracle: a's second box and b's second share two
+    cells of 3 px; b's first box, of no height, has no cell, so b's keys were as many as
+    its boxes and taken as one each, and the pair came out twice (two contacts)."""
+    import numpy as np
+
+    from invaders.engine.numpy_grid import box_pairs
+
+    a = np.array([[15, -1, 15, -1], [7, 31, 15, 39]], dtype=np.int64)
+    b = np.array([[22, 24, 30, 24], [8, 35, 11, 36], [33, 29, 36, 30], [25, 2, 26, 3]],
+                 dtype=np.int64)
+    i, j = box_pairs(a, b, 3)
+    assert list(zip(i.tolist(), j.tolist(), strict=True)) == [(1, 1)]
 
 
 @settings(max_examples=80, deadline=None)
@@ -647,7 +671,7 @@ def test_numpy_box_pairs_meet_boxes_too_large_to_bin_box_by_box(seed, cell):
                 and a[p, 1] < b[q, 3] and b[q, 1] < a[p, 3]]
     assert sorted(zip(i.tolist(), j.tolist(), strict=True)) == expected
     both = np.concatenate([a, b])
-    keys, rows, large = _cells(both, cell)
+    keys, rows, large, _ = _cells(both, cell)
     cells = [((x1 - 1) // cell - x0 // cell + 1) * ((y1 - 1) // cell - y0 // cell + 1)
              for x0, y0, x1, y1 in both.tolist()]
     assert large.tolist() == [r for r, n in enumerate(cells) if n > LARGE_CELLS]
@@ -679,7 +703,8 @@ def test_numpy_cells_are_every_cell_each_box_covers(seed, cell, size):
     for _ in range(rng.randrange(1, 25)):
         x, y = rng.randrange(-100, 100), rng.randrange(-100, 100)
         rows.append((x, y, x + rng.randrange(1, size + 1), y + rng.randrange(1, size + 1)))
-    keys, of, large = _cells(np.array(rows, dtype=np.int64), cell)
+    keys, of, large, single = _cells(np.array(rows, dtype=np.int64), cell)
+    assert single == (len(of) == len(set(of.tolist())))
     assert not len(large)  # (at most 24 x 24 cells: none too large to bin)
     found = list(zip(of.tolist(), keys.tolist(), strict=True))
     expected = [(r, (cy + OFFSET) * STRIDE + cx + OFFSET)

@@ -77,7 +77,7 @@ class Boxes:
         kept = self._kept.get(("index", cell))
         if kept is not None and kept[0] == self.version:
             return kept[1]
-        found = _index(*self.cells(cell), self.n)
+        found = _index(*self.cells(cell))
         self._kept[("index", cell)] = (self.version, found)
         return found
 
@@ -138,27 +138,29 @@ def _tick_boxes(raw: np.ndarray, moved: np.ndarray) -> np.ndarray:
     return out
 
 
-Cells = tuple[np.ndarray, np.ndarray, np.ndarray]  # keys, their rows, the rows too large
+# Keys, their rows, the rows too large to bin, and whether no row has more than one key.
+Cells = tuple[np.ndarray, np.ndarray, np.ndarray, bool]
 NO_ROWS = np.zeros(0, dtype=np.int64)
 
 
 def _cells(xy: np.ndarray, cell: int) -> Cells:
     """(cell key, row) for every cell each box covers, row by row, each row's cells in
-    row-major order; and the rows of boxes over LARGE_CELLS cells, left out of the keys
-    (one swept a million pixels would have been a billion keys: `box_pairs` meets these
-    box by box)."""
+    row-major order; the rows of boxes over LARGE_CELLS cells, left out of the keys (one
+    swept a million pixels would have been a billion keys: `box_pairs` meets these box by
+    box); and whether each row has one key at most (told, not counted: a box of no width
+    has none, so one with two keys could make the counts even)."""
     c0 = xy[:, :2] // cell
     c1 = (xy[:, 2:] - 1) // cell
     x0, y0 = c0[:, 0] + OFFSET, (c0[:, 1] + OFFSET) * STRIDE
     x1, y1 = c1[:, 0] + OFFSET, (c1[:, 1] + OFFSET) * STRIDE
     wide, tall = x1 != x0, y1 != y0
     if not (wide.any() or tall.any()):  # every box in one cell: the common case
-        return y0 + x0, np.arange(len(xy)), NO_ROWS
+        return y0 + x0, np.arange(len(xy)), NO_ROWS, True
     if (x1 - x0).max() <= 1 and (y1 - y0).max() <= STRIDE:  # at most 2x2 cells each
         keys = np.stack([y0 + x0, y0 + x1, y1 + x0, y1 + x1], axis=1)
         keep = np.stack([np.ones(len(xy), dtype=bool), wide, tall, wide & tall], axis=1)
         kept = np.flatnonzero(keep)  # row * 4 + corner: a flat pick is ~4x a 2-D one
-        return keys.take(kept), kept >> 2, NO_ROWS
+        return keys.take(kept), kept >> 2, NO_ROWS, False  # (some row has two)
     span = c1 - c0 + 1  # boxes wider than a cell: every cell of each, counted out
     large = np.flatnonzero(span[:, 0].astype(np.float64) * span[:, 1] > LARGE_CELLS)
     counts = span[:, 0] * span[:, 1]
@@ -169,23 +171,23 @@ def _cells(xy: np.ndarray, cell: int) -> Cells:
     width = span[rows, 0]
     cx = c0[rows, 0] + k % width
     cy = c0[rows, 1] + k // width
-    return (cy + OFFSET) * STRIDE + (cx + OFFSET), rows, large
+    return (cy + OFFSET) * STRIDE + (cx + OFFSET), rows, large, not (counts > 1).any()
 
 
 CellIndex = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool, np.ndarray]
 
 
-def _index(keys: np.ndarray, rows: np.ndarray, large: np.ndarray, boxes: int) -> CellIndex:
+def _index(keys: np.ndarray, rows: np.ndarray, large: np.ndarray, single: bool
+           ) -> CellIndex:
     """Cells to look up: each distinct key once, sorted (and then `BEYOND`), with where its
-    rows start in the rows sorted by key and how many there are; whether each row binned
-    has one cell; and the rows too large to bin."""
+    rows start in the rows sorted by key and how many there are; whether each row has one
+    key at most; and the rows too large to bin."""
     order = np.argsort(keys)  # any order within a key: the pairs are sorted by ids later
     keys, by_key = keys[order], rows[order]
     if not len(keys):
         return keys, keys, keys, by_key, True, large
     starts = np.flatnonzero(np.concatenate(([True], keys[1:] != keys[:-1])))
     counts = np.diff(np.append(starts, len(keys)))
-    single = len(rows) == boxes - len(large)
     # A key above every cell's ends the distinct keys, so a search never runs off them.
     return np.append(keys[starts], BEYOND), starts, counts, by_key, single, large
 
@@ -205,7 +207,7 @@ def box_pairs(a: np.ndarray, b: np.ndarray, cell: int, a_cells: Cells | None = N
     cells they share (`a_cells` and `b_index`, if already worked out); a box too large
     to bin is met box by box."""
     a_cells = a_cells if a_cells is not None else _cells(a, cell)
-    b_index = b_index if b_index is not None else _index(*_cells(b, cell), len(b))
+    b_index = b_index if b_index is not None else _index(*_cells(b, cell))
     i, j = _shared_cells(a, b, a_cells, b_index)
     large_a, large_b = a_cells[2], b_index[5]
     if not (len(large_a) or len(large_b)):
@@ -231,7 +233,7 @@ def _meeting(boxes: np.ndarray, box: np.ndarray) -> np.ndarray:
 def _shared_cells(a: np.ndarray, b: np.ndarray, a_cells: Cells, b_index: CellIndex
                   ) -> tuple[np.ndarray, np.ndarray]:
     """`box_pairs` of the binned boxes: those that share a cell and overlap, each once."""
-    ka, ra, large_a = a_cells
+    ka, ra, _, a_single = a_cells
     keys, starts, counts, rb, b_single, _ = b_index
     if not len(keys) or not len(ka):
         empty = np.zeros(0, dtype=np.int64)
@@ -251,7 +253,7 @@ def _shared_cells(a: np.ndarray, b: np.ndarray, a_cells: Cells, b_index: CellInd
            & (ai[:, 1] < bj[:, 3]) & (bj[:, 1] < ai[:, 3]))
     i, j = i[hit], j[hit]
     # A pair can share several cells only if both boxes cover more than one: then once.
-    if len(i) > 1 and not b_single and len(ka) > len(a) - len(large_a):
+    if len(i) > 1 and not b_single and not a_single:
         key = distinct(i * len(b) + j)
         i, j = key // len(b), key % len(b)
     return i, j
@@ -268,7 +270,7 @@ def _binned(zone: Zone, cell: int) -> tuple[np.ndarray, CellIndex] | None:
         if across * down > ZONE_CELLS or not fits:
             return None
     boxes = np.array([(x, y, x + w, y + h) for x, y, w, h in zone], dtype=np.int64).reshape(-1, 4)
-    return boxes, _index(*_cells(boxes, cell), len(boxes))
+    return boxes, _index(*_cells(boxes, cell))
 
 
 class NumpyGrid(BroadPhase):
