@@ -93,7 +93,8 @@ def all_touches(scene: Scene, rules: RuleTable) -> list[tuple[Fraction, int, int
     pixel they share), in time order.
 
     A pair whose bodies never share a screen column during the tick cannot touch, and is
-    passed over by a bisection on left edges (so storms of thousands stay tractable).
+    passed over by a bisection on left edges (so storms of thousands stay tractable). In
+    an entry of one kind each two bodies are tested once, and none with itself.
     """
     by_kind = scene.by_kind
     tick = scene.tick
@@ -109,8 +110,8 @@ def all_touches(scene: Scene, rules: RuleTable) -> list[tuple[Fraction, int, int
             left, right = _columns(a, tick)
             for _, b_right, _, b in spans[bisect_left(lefts, left - widest):
                                           bisect_left(lefts, right)]:
-                if b_right <= left:
-                    continue
+                if b_right <= left or (rule.a == rule.b and b.id <= a.id):
+                    continue  # (apart; or in an entry of one kind, itself, or met already)
                 low, high = (a, b) if a.id < b.id else (b, a)
                 touch = _touch(low, high, rule, tick)
                 if touch is not None:
