@@ -351,12 +351,15 @@ class NumpyGrid(BroadPhase):
         """The bodies of a kind whose box over the tick meets a zone, in id order: the
         stored boxes (exact, or a superset for a body that stopped) against the zone's
         boxes at once, then the few that meet one tested exactly. The zone is hashed into
-        the grid's own cells, so the kind's cells, worked out for its pairs, serve here too."""
+        the grid's own cells, so the kind's cells, worked out for its pairs, serve here too.
+        A kind no entry sweeps has its boxes stored where they end, not over the tick (one
+        that crossed the zone and left was missed): its bodies are tested one by one, as
+        they are where a zone has a box too big to bin."""
         kept = self._zones.get(id(zone))
         if kept is None or kept[0] is not zone:
             kept = self._zones[id(zone)] = (zone, _binned(zone.zone, self.cell))
         binned = kept[1]
-        if binned is None:  # (a box too big to bin: each body tested, as by default)
+        if binned is None or kind not in kinds.swept:  # (each body tested, as by default)
             return zone.within(scene.by_kind[kind], scene.tick)
         if self.move_buffer:
             self._drain(scene.tick, kinds)
