@@ -95,9 +95,9 @@ def _member(name: str, value: object, members: type[Enum]) -> None:
 
 def zone_of(boxes: Any) -> Zone:
     """A zone as the detector reads it, a tuple of boxes of four Python ints (boxes as
-    lists, and NumPy integers, taken), or a ValueError naming the box that is not one. A box of no
-    width or height holds no pixel, and is left out: it holds nothing, as a `Rect` of
-    none meets nothing."""
+    lists, and NumPy integers, taken), or a ValueError naming the box that is not one. A
+    box of no width or height holds no pixel, and is left out: it holds nothing, as a
+    `Rect` of none meets nothing."""
     try:
         listed = list(boxes)
     except TypeError:
