@@ -38,7 +38,6 @@ STRIDE = 1 << 21  # cell key = cy * STRIDE + cx, with cells offset to be non-neg
 OFFSET = 1 << 20
 BEYOND = np.iinfo(np.int64).max  # no cell's key
 INT64_MIN, INT64_MAX = int(np.iinfo(np.int64).min), int(np.iinfo(np.int64).max)
-ZONE_CELLS = 256  # a zone's box over more cells is not binned: bodies are tested one by one
 
 
 @mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
@@ -260,15 +259,12 @@ def _shared_cells(a: np.ndarray, b: np.ndarray, a_cells: Cells, b_index: CellInd
 
 
 def _binned(zone: Zone, cell: int) -> tuple[np.ndarray, CellIndex] | None:
-    """A zone's boxes as rows (x0, y0, x1, y1) and binned in cells of `cell` px; or None
-    where a box covers more than ZONE_CELLS of them (one 100,000 px square took 1.8 s and
-    700 MB, one 2^62 px wide overflowed its count and met nothing) or does not fit int64."""
-    for x, y, w, h in zone:
-        across = (x + w - 1) // cell - x // cell + 1
-        down = (y + h - 1) // cell - y // cell + 1
-        fits = min(x, y) >= INT64_MIN and max(x + w, y + h) <= INT64_MAX
-        if across * down > ZONE_CELLS or not fits:
-            return None
+    """A zone's boxes as rows (x0, y0, x1, y1) and binned in cells of `cell` px (a box over
+    LARGE_CELLS of them met box by box, as a body's is); or None where a box does not fit
+    int64 (one 10^30 px wide raised OverflowError)."""
+    if not all(min(x, y) >= INT64_MIN and max(x + w, y + h) <= INT64_MAX
+               for x, y, w, h in zone):
+        return None
     boxes = np.array([(x, y, x + w, y + h) for x, y, w, h in zone], dtype=np.int64).reshape(-1, 4)
     return boxes, _index(*_cells(boxes, cell))
 
