@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import pickle
 import random
 
 import pygame
@@ -12,6 +13,7 @@ from hypothesis import strategies as st
 
 from invaders.engine import predicates
 from invaders.engine.detector import _at
+from invaders.engine.pickling import mask_bytes, reduce_with_masks
 from tests.helpers import mask
 
 
@@ -96,6 +98,39 @@ def test_the_swept_masks_kept_are_bounded_however_many_masks_come():
     again = predicates.swept_mask(bar, 0, 3)
     assert again.get_size() == (1, 5) and again.count() == 5
     assert again.overlap_area(first, (0, 0)) == 5
+
+
+class Holding:
+    """An object holding a mask, pickled as a world is (its masks by `reduce_with_masks`)."""
+
+    def __init__(self, held: pygame.mask.Mask) -> None:
+        self.held = held
+
+    def __reduce__(self):
+        return reduce_with_masks(self)
+
+
+def _pickled(held: pygame.mask.Mask) -> pygame.mask.Mask:
+    return pickle.loads(pickle.dumps(Holding(held))).held
+
+
+def test_solid_masks_are_shared_while_kept_and_the_longest_unasked_let_go_first():
+    # Two masks each over half the pixels kept: every mask kept before is let go, and
+    # then the first of the two, whatever earlier tests asked for.
+    wide = predicates.SOLID_KEPT_PIXELS // 2 // 2048 + 1
+    predicates.solid_mask(wide, 2048)
+    predicates.solid_mask(wide + 1, 2048)
+    first, second = predicates.solid_mask(1, 1), predicates.solid_mask(1, 2)
+    assert first is predicates.solid_mask(1, 1) and first.count() == 1  # asked: the latest
+    assert _pickled(first) is first  # (pickled as the call: the process's own again)
+    for h in range(3, predicates.SOLID_KEPT + 2):  # the count passed twice: the big mask
+        predicates.solid_mask(1, h)  # let go, then the longest unasked of the two
+    assert predicates.solid_mask(1, 1) is first
+    again = predicates.solid_mask(1, 2)
+    assert again is not second and mask_bytes(again) == mask_bytes(second)
+    loaded = _pickled(second)  # let go: pickled as its pixels, a mask of its own
+    assert loaded is not second and loaded is not again
+    assert mask_bytes(loaded) == mask_bytes(second) and loaded.get_size() == (1, 2)
 
 
 def test_swept_box_overlap_matches_the_union_of_positions():

@@ -32,6 +32,12 @@ def remade_by(mask: pygame.mask.Mask, make: Callable[..., pygame.mask.Mask],
     return mask
 
 
+def forget_recipe(mask: pygame.mask.Mask) -> None:
+    """`mask` pickles as its pixels again (its maker lets it go: kept here, it would be
+    kept for the process)."""
+    _recipes.pop(mask, None)
+
+
 def mask_bytes(mask: pygame.mask.Mask) -> bytes:
     """The mask's pixels, one byte each (255 lit, 0 not), row by row."""
     surface = mask.to_surface(setcolor=(255, 255, 255, 255), unsetcolor=(0, 0, 0, 255))

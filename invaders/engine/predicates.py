@@ -9,11 +9,11 @@ motion passes offsets from the fixed side's corner directly (`first_swept_contac
 
 from __future__ import annotations
 
-from functools import cache, lru_cache
+from functools import lru_cache
 
 import pygame
 
-from invaders.engine.pickling import remade_by
+from invaders.engine.pickling import forget_recipe, remade_by
 
 Point = tuple[int, int]
 
@@ -28,11 +28,48 @@ def mask_offset(ax: int, ay: int, bx: int, by: int) -> Point:
     return bx - ax, by - ay
 
 
-@cache
+# The solid masks kept to be shared: the latest asked for, at most SOLID_KEPT of them and
+# SOLID_KEPT_PIXELS pixels all told (2 MiB of bits; one larger is kept alone). A sprite
+# whose box is its shape and changes size every frame asks for a new one each frame:
+# keeping every one grew a process by 114 MB in 1,500 frames (tests/test_sprites.py).
+SOLID_KEPT = 4096
+SOLID_KEPT_PIXELS = 1 << 24
+
+
+class KeptSolids:
+    """The solid masks kept, the longest unasked first, and their pixels all told."""
+
+    def __init__(self) -> None:
+        self.masks: dict[tuple[int, int], pygame.mask.Mask] = {}
+        self.pixels = 0
+
+    def keep(self, w: int, h: int) -> pygame.mask.Mask:
+        """A new solid mask, kept; the longest unasked let go while the bounds are passed
+        (one let go is not shared with the next of its size, and pickles as its pixels)."""
+        masks = self.masks
+        mask = masks[w, h] = remade_by(pygame.mask.Mask((w, h), fill=True), solid_mask, w, h)
+        self.pixels += w * h
+        while len(masks) > 1 and (len(masks) > SOLID_KEPT
+                                  or self.pixels > SOLID_KEPT_PIXELS):
+            (ow, oh), oldest = next(iter(masks.items()))
+            del masks[ow, oh]
+            self.pixels -= ow * oh
+            forget_recipe(oldest)
+        return mask
+
+
+_solids = KeptSolids()
+
+
 def solid_mask(w: int, h: int) -> pygame.mask.Mask:
-    """A filled w x h mask, for a side whose box is its whole shape (shared: pickled as
-    this call)."""
-    return remade_by(pygame.mask.Mask((w, h), fill=True), solid_mask, w, h)
+    """A filled w x h mask, for a side whose box is its whole shape (shared while kept:
+    pickled as this call)."""
+    masks = _solids.masks
+    mask = masks.pop((w, h), None)
+    if mask is None:
+        return _solids.keep(w, h)
+    masks[w, h] = mask  # (now the latest asked for)
+    return mask
 
 
 def masks_overlap(

@@ -177,6 +177,10 @@ class BodyStore:
 
 
 _gains: dict[tuple[pygame.mask.Mask, pygame.mask.Mask], bool] = {}
+# Pairs kept only of masks up to this many pixels each: a larger pair's answer costs about
+# what reading its masks does, and 4,096 pairs of them kept held their memory (a box
+# changing size every frame: a new pair each frame).
+GAINS_KEPT_PIXELS = 1 << 16
 
 
 def gains_pixels(old: pygame.mask.Mask, new: pygame.mask.Mask) -> bool:
@@ -186,7 +190,9 @@ def gains_pixels(old: pygame.mask.Mask, new: pygame.mask.Mask) -> bool:
     gained = _gains.get((old, new))
     if gained is None:
         gained = new.overlap_area(old, (0, 0)) < new.count()
-        if len(_gains) > 4096:
-            _gains.clear()
-        _gains[(old, new)] = gained
+        (ow, oh), (nw, nh) = old.get_size(), new.get_size()
+        if ow * oh <= GAINS_KEPT_PIXELS and nw * nh <= GAINS_KEPT_PIXELS:
+            if len(_gains) > 4096:
+                _gains.clear()
+            _gains[(old, new)] = gained
     return gained
