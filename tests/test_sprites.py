@@ -354,6 +354,27 @@ def test_float_rect_sprites_are_swept_between_the_pixels_pygame_draws_them_on():
     assert found[0] == found[1] == [(True, True, Fraction(11, 22), (50, 82))]
 
 
+def test_a_sprite_out_of_its_group_is_met_no_more_and_one_back_in_is_met_again():
+    """The collider keeps a body for each sprite it was given, and lets go of those not
+    given this time (counted, not searched for, when none is missing)."""
+    collider = SpriteCollider(RuleTable((PairRule(0, 1, motion=Motion.DISCRETE),)))
+    rock = Thing(0, 0, mask("##", "##"))
+    near, far = Thing(1, 1, mask("#")), Thing(0, 0, mask("#"))
+    shots, rocks = pygame.sprite.Group(near, far), pygame.sprite.Group(rock)
+
+    def met() -> list[tuple[pygame.sprite.Sprite, pygame.sprite.Sprite]]:
+        return [(contact.a, contact.b) for contact in collider.collide({0: shots, 1: rocks})]
+
+    assert met() == [(near, rock), (far, rock)] and collider.stats.objects == 3
+    far.kill()
+    assert met() == [(near, rock)] and collider.stats.objects == 2
+    shots.add(far)
+    near.kill()
+    assert met() == [(far, rock)] and collider.stats.objects == 2
+    rocks.add(near)  # (a sprite of the other kind now: one rule, shot against rock)
+    assert met() == [(far, rock)] and collider.stats.objects == 3
+
+
 def test_a_group_of_a_kind_no_rule_names_is_refused_naming_it_and_nothing_moves():
     collider = SpriteCollider(RuleTable((PairRule(1, 2),)))
     a, b = Thing(0, 0, None, 2, 2), Thing(1, 1, None, 2, 2)

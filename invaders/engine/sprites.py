@@ -75,9 +75,12 @@ class SpriteCollider:
                 key = (id(sprite), kind)
                 seen.add(key)
                 self._sync(key, sprite, kind)
-        for key in [k for k in self._bodies if k not in seen]:
-            store.remove(self._bodies.pop(key)[1])
+        if len(seen) != len(self._bodies):  # (every key seen is kept: the rest are gone)
+            for key in [k for k in self._bodies if k not in seen]:
+                store.remove(self._bodies.pop(key)[1])
         contacts, self.stats = self.detector.detect(store)
+        if not contacts:
+            return []
         sprite_of = {body.id: sprite for sprite, body in self._bodies.values()}
         out = []
         for contact in first_contacts(contacts):
@@ -96,24 +99,27 @@ class SpriteCollider:
             image = getattr(sprite, "image", None)
             mask = None if image is None else image_mask(image)
         boxed = mask is None  # (its rect is its shape)
-        rect = _drawn(sprite.rect, boxed)
+        rect = sprite.rect
+        if boxed or type(rect) is not pygame.Rect:  # (a masked Rect stands where it is)
+            rect = _drawn(rect, boxed)
         if mask is None:
             mask = solid_mask(rect.width, rect.height)
+        x, y = rect.x, rect.y
         last = getattr(sprite, "last_rect", None)
         if last is not None:
             last = _drawn(last, boxed)
+        sx, sy = (x, y) if last is None else (last.x, last.y)  # where it starts the tick
         known = self._bodies.get(key)
         if known is None:
-            body = Body(store.new_id(), kind, rect.x, rect.y, mask)
+            body = Body(store.new_id(), kind, x, y, mask)
             self._bodies[key] = (sprite, body)
-            store.add(body, None if last is None else (last.x, last.y))
+            store.add(body, None if last is None else (sx, sy))
             return
         body = known[1]
         if body.mask is not mask:
             store.reshape(body, mask)
-        start = (last.x, last.y) if last is not None else (rect.x, rect.y)
-        if (body.x, body.y) != (rect.x, rect.y) or body.start_of_tick(store.tick) != start:
-            store.move_from(body, *start, rect.x, rect.y)
+        if body.x != x or body.y != y or body.start_of_tick(store.tick) != (sx, sy):
+            store.move_from(body, sx, sy, x, y)
 
 
 def _drawn(rect: Any, boxed: bool) -> pygame.Rect:
