@@ -131,7 +131,7 @@ class BodyStore:
     def move_from(self, body: Body, px: int, py: int, x: int, y: int) -> None:
         """This tick the body went from (px, py) to (x, y) (for scenes played back): the
         broad phase hears of it unless both ends are inside the fence."""
-        if (px, py) == (x, y):
+        if px == x and py == y:
             body.moved_tick = -1
         else:
             body.px, body.py, body.moved_tick = px, py, self.tick
@@ -140,8 +140,9 @@ class BodyStore:
         buffer = self._buffer
         if buffer is not None:
             x0, y0, x1, y1 = body.fence
-            if not (x0 <= min(px, x) and y0 <= min(py, y) and max(px, x) + body.w <= x1
-                    and max(py, y) + body.h <= y1):
+            w, h = body.w, body.h
+            if not (x0 <= px and x0 <= x and px + w <= x1 and x + w <= x1
+                    and y0 <= py and y0 <= y and py + h <= y1 and y + h <= y1):
                 buffer.append(body)
 
     def reshape(self, body: Body, mask: pygame.mask.Mask) -> None:
