@@ -14,7 +14,7 @@ from invaders.engine.body import Body
 from invaders.engine.predicates import solid_mask
 from invaders.engine.response import first_contacts, respond
 from invaders.engine.rules import PairRule
-from invaders.engine.stats import Contact, contact_order, contact_time
+from invaders.engine.stats import Contact, contact_order, contact_time, impact_time
 from invaders.game.actions import Action
 from invaders.game.entities import BOMB_MASKS, Bomb, BombType, Shot
 from invaders.game.events import Event
@@ -241,3 +241,14 @@ def test_contacts_sort_by_time_as_the_fractions_order_them(times):
     # The detector's contacts come in the pairs' id order: a stable sort by time suffices.
     by_ids = sorted(contacts, key=lambda c: (c.a_id, c.b_id))
     assert sorted(by_ids, key=contact_time) == exact
+
+
+def test_the_impact_times_kept_are_bounded_however_many_motions_come():
+    """A contact's time is kept per pair of numbers for the contacts to share, the latest
+    4,096 pairs: motions long and many would otherwise keep one for every substep met."""
+    first = impact_time(1, 1_000_003)
+    assert first == Fraction(1, 1_000_003) and impact_time(1, 1_000_003) is first
+    for steps in range(1_000_004, 1_000_004 + 4096):
+        assert impact_time(2, steps) == Fraction(2, steps)
+    again = impact_time(1, 1_000_003)
+    assert again == first and again is not first  # (let go, and made again)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from functools import cache, lru_cache
+from functools import lru_cache
 from typing import TYPE_CHECKING, NamedTuple
 
 if TYPE_CHECKING:  # made only when a contact is: importing fractions (and with it decimal)
@@ -30,13 +30,13 @@ class CollisionStats(NamedTuple):
 
 STAT_FIELDS: tuple[str, ...] = CollisionStats._fields
 
-@lru_cache(maxsize=4096)  # a Fraction is immutable; making one reduces it, which costs
-@cache
+
+@lru_cache(maxsize=4096)
 def impact_time(step: int, steps: int) -> Fraction:
     """The time of substep `step` of `steps` within the tick, in the one time base of every
     contact: 0 is the tick's first instant (`impact_time(0, 0)`), 1 its last, where things
-    land (`impact_time(1, 1)`). Made once per pair of numbers (a Fraction costs a
-    microsecond or two to make; they are immutable, so one serves every contact)."""
+    land (`impact_time(1, 1)`). Kept per pair of numbers, the latest 4,096 (a Fraction
+    costs a microsecond or two to make; they are immutable, so one serves every contact)."""
     from fractions import Fraction
 
     return Fraction(step, steps) if steps else Fraction(0)
