@@ -1,5 +1,6 @@
 """pygame sprite groups in, contacts and counters out: the engine as a drop-in for
-`pygame.sprite.groupcollide(..., collide_mask)` that is faster, exact and swept.
+`pygame.sprite.groupcollide(..., collide_mask)` that is exact, swept and, from a few
+sprites a side, faster.
 
 Each call is one tick. A sprite is a body of its group's kind at `rect.topleft`, shaped by
 its `mask` where it has one and by its rect where it has not (`GroupCollide`, as pygame's
@@ -8,7 +9,8 @@ was last tick (a `last_rect` attribute) is tested along its motion by swept entr
 does not is tested where it is. A float rect (`FRect`) stands where pygame draws it, at
 `pygame.Rect(frect)` (its corner truncated towards zero, as `blit` does): contacts are
 between the pixels on the screen. The collider keeps the bodies and the broad phase between
-calls, so only what moved costs anything. Kinds are small non-negative integers you choose.
+calls: each sprite is looked at, and the broad phase hears only of those that moved. Kinds
+are small non-negative integers you choose.
 """
 
 from __future__ import annotations
