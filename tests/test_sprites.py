@@ -132,6 +132,39 @@ def test_a_sprite_that_says_it_came_from_elsewhere_is_swept_from_there():
     assert collide(*groups) == {bullet: [wall]}
 
 
+def test_a_sprite_that_starts_a_frame_away_from_where_it_ended_the_last_is_met_there():
+    """A jump: the dot says it started this frame inside the rock (its `last_rect`), a
+    place it did not stand in at the end of the last frame. That first instant was met by
+    no frame before, so it is this frame's: the answer is a fresh collider's. Where a frame
+    starts where the last ended, a touch there was the last frame's, and is not met again."""
+    rules = RuleTable((PairRule(0, 1),))
+    rock, dot = Thing(50, 50, mask(*["#" * 10] * 10)), Thing(0, 0, mask("#"))
+    collider = SpriteCollider(rules)
+
+    def met(by: SpriteCollider) -> list[tuple[Fraction, tuple[int, int]]]:
+        return [(c.time, c.point) for c in by.collide({0: [dot], 1: [rock]})]
+
+    assert met(collider) == []
+    dot.last_rect, dot.rect = pygame.Rect(55, 50, 1, 1), pygame.Rect(55, 51, 1, 1)
+    assert met(collider) == met(SpriteCollider(rules)) == [(0, (55, 50))]
+    dot.last_rect, dot.rect = dot.rect, pygame.Rect(55, 49, 1, 1)  # out the top, 2 rows
+    assert met(collider) == [(Fraction(1, 2), (55, 50))]
+    assert met(SpriteCollider(rules)) == [(0, (55, 51))]  # (no last frame: its start too)
+
+
+def test_a_sprite_that_jumps_onto_where_a_swept_one_starts_is_met_at_that_instant():
+    """The dot has no `last_rect`: it stands where it is for the whole frame, here inside
+    the rock's place at the frame's start; the rock sweeps away from it. Only that first
+    instant touches, and no frame before had the dot there."""
+    dot, rock = Thing(0, 0, mask("#")), Thing(50, 50, mask(*["#" * 10] * 10))
+    collider = SpriteCollider(RuleTable((PairRule(0, 1),)))
+    assert collider.collide({0: [dot], 1: [rock]}) == []
+    dot.rect = pygame.Rect(55, 50, 1, 1)
+    rock.last_rect, rock.rect = rock.rect.copy(), rock.rect.move(0, 10)
+    assert [(c.time, c.point) for c in collider.collide({0: [dot], 1: [rock]})] == [
+        (0, (55, 50))]
+
+
 def test_a_sprite_that_changes_its_picture_is_met_by_the_new_one():
     """An animation's frames as masks put on the sprite in turn: each frame's pixels."""
     walker, target = Thing(0, 0, mask("##..", "##..")), Thing(2, 0, mask("##", "##"))

@@ -20,9 +20,10 @@ class Body:
     `kind` is a small integer the engine's user defines (an IntEnum works). `moved_tick`
     says on which tick (px, py) was last saved: a body that has not moved this tick is where
     it was at the tick's start, whatever px, py still hold. `shaped_tick` is the tick it
-    appeared or last gained pixels: a tick's contacts are the touches after its first
-    instant (that instant was the previous tick's last), and at that instant too when a
-    body in the pair is new in it. `fence` (x0, y0, x1, y1, half-open) is where the broad
+    appeared, last gained pixels or started away from where it ended the tick before (a
+    jump, as `BodyStore.move_from` plays one): a tick's contacts are the touches after its
+    first instant (that instant was the previous tick's last), and at that instant too when
+    a body in the pair is new in it. `fence` (x0, y0, x1, y1, half-open) is where the broad
     phase lets its box go unheard (Box2D's fat box): the store reports a move that leaves it.
     Change bodies through a `BodyStore`, which keeps these fields and tells the broad phase.
     """

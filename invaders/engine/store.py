@@ -129,12 +129,18 @@ class BodyStore:
                 buffer.append(body)
 
     def move_from(self, body: Body, px: int, py: int, x: int, y: int) -> None:
-        """This tick the body went from (px, py) to (x, y) (for scenes played back): the
-        broad phase hears of it unless both ends are inside the fence."""
+        """This tick the body went from (px, py) to (x, y) (for scenes played back, and
+        sprites that say where they were): the broad phase hears of it unless both ends are
+        inside the fence. A start away from where the body ended the tick before (a jump)
+        is an instant no tick has tested: the body is new in it (`shaped_tick`)."""
+        tick = self.tick
+        moved = body.moved_tick == tick  # (start_of_tick, read in place)
+        if px != (body.px if moved else body.x) or py != (body.py if moved else body.y):
+            body.shaped_tick = tick
         if px == x and py == y:
             body.moved_tick = -1
         else:
-            body.px, body.py, body.moved_tick = px, py, self.tick
+            body.px, body.py, body.moved_tick = px, py, tick
         body.x = x
         body.y = y
         buffer = self._buffer
