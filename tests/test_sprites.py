@@ -165,6 +165,78 @@ def test_a_sprite_that_jumps_onto_where_a_swept_one_starts_is_met_at_that_instan
         (0, (55, 50))]
 
 
+def _solid_or_own(sprite: Thing) -> pygame.mask.Mask:
+    mask = getattr(sprite, "mask", None)
+    return mask if mask is not None else pygame.mask.Mask(sprite.rect.size, fill=True)
+
+
+def _start(sprite: Thing) -> tuple[int, int]:
+    last = getattr(sprite, "last_rect", None)
+    return sprite.rect.topleft if last is None else last.topleft
+
+
+def _frame_moves(rng: random.Random, pool: list[Thing]) -> None:
+    """Each sprite moved a little or jumped or left alone; swept from where it was, from
+    elsewhere or not at all; now and then given a new picture."""
+    for sprite in pool:
+        old = sprite.rect.copy()
+        if rng.random() < 0.6:
+            sprite.rect.move_ip(rng.randint(-5, 5), rng.randint(-5, 5))
+        elif rng.random() < 0.25:
+            sprite.rect.topleft = (rng.randint(0, 25), rng.randint(0, 25))
+        swept = rng.random()
+        sprite.last_rect = (old if swept < 0.45 else None if swept > 0.6 else
+                            sprite.rect.move(rng.randint(-6, 6), rng.randint(-6, 6)))
+        if getattr(sprite, "mask", None) is not None and rng.random() < 0.15:
+            sprite.mask = _random_mask(rng)
+            sprite.rect.size = sprite.mask.get_size()
+
+
+@settings(max_examples=150, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1),
+       broadphase=st.sampled_from(["grid", "brute", "sweep", "numpy", "auto"]),
+       shapes=st.tuples(st.sampled_from(Shape), st.sampled_from(Shape)),
+       motion=st.sampled_from([Motion.SWEPT, Motion.DISCRETE]))
+def test_a_frames_first_instant_is_its_own_exactly_where_no_frame_before_met_it(
+        seed, broadphase, shapes, motion):
+    """Frame after frame, each pair's contact is a fresh collider's (one that saw no frame
+    before), but where the frame starts as the last ended for both sprites (where each
+    stood, no pixel gained) and they move apart: a touch at that first instant was the
+    last frame's, so the frame's contact is a later touch or none. The sprites move, jump,
+    sweep from elsewhere, change pictures, leave and come back; some have no mask."""
+    rng = random.Random(seed)
+    rules = RuleTable((PairRule(0, 1, *shapes, motion),))
+    pool = []
+    for _ in range(rng.randint(2, 10)):
+        shape = _random_mask(rng) if rng.random() < 0.85 else None
+        pool.append(Thing(rng.randint(0, 25), rng.randint(0, 25), shape, rng.randint(1, 6),
+                          rng.randint(1, 6)))
+    collider = SpriteCollider(rules, broadphase)
+    ended: dict[int, tuple[tuple[int, int], pygame.mask.Mask]] = {}  # at the last frame
+
+    def continues(sprite: Thing) -> bool:
+        last = ended.get(id(sprite))
+        mask = _solid_or_own(sprite)
+        return last is not None and _start(sprite) == last[0] and (
+            mask.overlap_area(last[1], (0, 0)) == mask.count())
+
+    for _ in range(10):
+        _frame_moves(rng, pool)
+        groups = {kind: [s for s in pool[kind::2] if rng.random() < 0.9] for kind in (0, 1)}
+        kept = {(id(c.a), id(c.b)): c.time for c in collider.collide(groups)}
+        fresh = {(id(c.a), id(c.b)): c.time for c in SpriteCollider(rules).collide(groups)}
+        for a in groups[0]:
+            for b in groups[1]:
+                first, found = fresh.get((id(a), id(b))), kept.get((id(a), id(b)))
+                apart = (a.rect.x - _start(a)[0], a.rect.y - _start(a)[1]) != (
+                    b.rect.x - _start(b)[0], b.rect.y - _start(b)[1])
+                if first == 0 and continues(a) and continues(b) and apart:
+                    assert found is None or found > 0
+                else:
+                    assert found == first
+        ended = {id(s): (s.rect.topleft, _solid_or_own(s)) for s in groups[0] + groups[1]}
+
+
 def test_a_sprite_that_changes_its_picture_is_met_by_the_new_one():
     """An animation's frames as masks put on the sprite in turn: each frame's pixels."""
     walker, target = Thing(0, 0, mask("##..", "##..")), Thing(2, 0, mask("##", "##"))
