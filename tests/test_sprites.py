@@ -480,6 +480,26 @@ def test_a_sprite_out_of_its_group_is_met_no_more_and_one_back_in_is_met_again()
     assert met() == [(far, rock)] and collider.stats.objects == 3
 
 
+def test_a_sprite_listed_twice_is_one_body_moved_once_and_hides_no_sprite_gone():
+    """A list may hold a sprite twice: the collider looks at it once a call (its body is
+    moved once, from its `last_rect`, as the sprite listed once), and counts it once, so a
+    sprite missing from that call's list is still let go."""
+    rules = RuleTable((PairRule(0, 1, Shape.BOX, Shape.MASK, Motion.SWEPT),))
+    twice, once = SpriteCollider(rules), SpriteCollider(rules)
+    bullet, other = Bullet(50, 100), Bullet(10, 100)
+    walls = [Thing(40, 90, mask(*["#" * 20] * 2)), Thing(0, 90, mask(*["#" * 20] * 2))]
+
+    def met(collider: SpriteCollider, shots: list) -> list[tuple[object, object, Fraction]]:
+        return [(c.a, c.b, c.time) for c in collider.collide({0: shots, 1: walls})]
+
+    assert met(twice, [bullet, other]) == met(once, [bullet, other]) == []
+    bullet.update(-20)  # through the wall at x 40 in one frame
+    other.update(-20)  # through the one at x 0, but gone from the lists
+    assert met(twice, [bullet, bullet]) == met(once, [bullet]) == [
+        (bullet, walls[0], Fraction(9, 20))]
+    assert twice.stats.objects == once.stats.objects == 3
+
+
 def test_a_group_of_a_kind_no_rule_names_is_refused_naming_it_and_nothing_moves():
     collider = SpriteCollider(RuleTable((PairRule(1, 2),)))
     a, b = Thing(0, 0, None, 2, 2), Thing(1, 1, None, 2, 2)

@@ -44,6 +44,17 @@ class SpriteContact(NamedTuple):
     rule: PairRule
 
 
+class _Tracked:
+    """A sprite the collider follows: its body, and the last call that saw it."""
+
+    __slots__ = ("body", "seen", "sprite")
+
+    def __init__(self, sprite: Any, body: Body, seen: int) -> None:
+        self.sprite = sprite  # (held: its id names it only while it lives)
+        self.body = body
+        self.seen = seen
+
+
 class SpriteCollider:
     """The rules table and a broad phase over sprite groups, kept between calls.
     `from_images`: a sprite with no `mask` but an `image` is shaped by the image's pixels,
@@ -57,7 +68,9 @@ class SpriteCollider:
         self.detector = Detector(make_broadphase(broadphase, cell), rules)
         self.store = BodyStore(rules.kinds())
         self.stats = CollisionStats()
-        self._bodies: dict[tuple[int, int], tuple[Any, Body]] = {}
+        # Each kind's sprites by id, and every one by its body's id.
+        self._tracked: dict[int, dict[int, _Tracked]] = {kind: {} for kind in self.store.by_kind}
+        self._by_body: dict[int, _Tracked] = {}
         self._started = False
 
     def collide(self, groups: Mapping[int, Iterable[Any]]) -> list[SpriteContact]:
@@ -71,57 +84,92 @@ class SpriteCollider:
         if self._started:
             store.tick += 1
         self._started = True
-        seen: set[tuple[int, int]] = set()
+        tick, seen = store.tick, 0
         for kind, sprites in groups.items():
+            tracked = self._tracked[kind]
             for sprite in sprites:
-                key = (id(sprite), kind)
-                seen.add(key)
-                self._sync(key, sprite, kind)
-        if len(seen) != len(self._bodies):  # (every key seen is kept: the rest are gone)
-            for key in [k for k in self._bodies if k not in seen]:
-                store.remove(self._bodies.pop(key)[1])
+                known = tracked.get(id(sprite))
+                if known is None:
+                    self._add(sprite, kind, tick)
+                elif known.seen != tick:  # (a sprite listed twice is looked at once)
+                    known.seen = tick
+                    self._sync(known.body, sprite)
+                else:
+                    continue
+                seen += 1
+        if seen != len(self._by_body):  # (each sprite seen is kept: the rest are gone)
+            self._drop_unseen(tick)
         contacts, self.stats = self.detector.detect(store)
         if not contacts:
             return []
-        sprite_of = {body.id: sprite for sprite, body in self._bodies.values()}
         out = []
         for contact in first_contacts(contacts):
             rule: PairRule = contact.rule  # type: ignore[assignment]
-            first, second = sprite_of[contact.a_id], sprite_of[contact.b_id]
+            first = self._by_body[contact.a_id].sprite
+            second = self._by_body[contact.b_id].sprite
             if contact.a_kind != rule.a:
                 first, second = second, first
             out.append(SpriteContact(first, second, contact.time, (contact.px, contact.py),
                                      rule))
         return out
 
-    def _sync(self, key: tuple[int, int], sprite: Any, kind: int) -> None:
-        store = self.store
+    def _add(self, sprite: Any, kind: int, tick: int) -> None:
+        """A sprite first seen (or back): a new body where it stands, swept from where it
+        says it was."""
+        mask, rect, boxed = self._shape(sprite, None)
+        body = Body(self.store.new_id(), kind, rect.x, rect.y, mask)
+        self._tracked[kind][id(sprite)] = self._by_body[body.id] = _Tracked(sprite, body, tick)
+        last = getattr(sprite, "last_rect", None)
+        if last is not None:
+            last = _drawn(last, boxed)
+        self.store.add(body, None if last is None else (last.x, last.y))
+
+    def _sync(self, body: Body, sprite: Any) -> None:
+        """The body made what its sprite now is: its picture, where it ended the frame and
+        where it started it (its `last_rect`, or where it stands)."""
+        mask = getattr(sprite, "mask", None)
+        rect = sprite.rect
+        boxed = False
+        if mask is None or type(rect) is not pygame.Rect:  # (a masked Rect is as it is)
+            mask, rect, boxed = self._shape(sprite, body)
+        x, y = rect.x, rect.y
+        last = getattr(sprite, "last_rect", None)
+        if last is None:
+            sx, sy = x, y
+        else:
+            if boxed or type(last) is not pygame.Rect:
+                last = _drawn(last, boxed)
+            sx, sy = last.x, last.y
+        if body.mask is not mask:
+            self.store.reshape(body, mask)
+        # Not moved yet this call (a body moves only here, once a call): it starts the
+        # tick where it ended the last, and stays put if its sprite did.
+        if body.x != x or body.y != y or sx != x or sy != y:
+            self.store.move_from(body, sx, sy, x, y)
+
+    def _shape(self, sprite: Any, body: Body | None) -> tuple[pygame.mask.Mask, pygame.Rect,
+                                                               bool]:
+        """The sprite's mask, the rect it stands on and whether that rect is its shape: its
+        `mask`, else (`from_images`) its image's, else a solid one of its rect's size."""
         mask = getattr(sprite, "mask", None)
         if mask is None and self.from_images:
             image = getattr(sprite, "image", None)
             mask = None if image is None else image_mask(image)
         boxed = mask is None  # (its rect is its shape)
         rect = sprite.rect
-        if boxed or type(rect) is not pygame.Rect:  # (a masked Rect stands where it is)
+        if boxed or type(rect) is not pygame.Rect:
             rect = _drawn(rect, boxed)
         if mask is None:
             mask = solid_mask(rect.width, rect.height)
-        x, y = rect.x, rect.y
-        last = getattr(sprite, "last_rect", None)
-        if last is not None:
-            last = _drawn(last, boxed)
-        sx, sy = (x, y) if last is None else (last.x, last.y)  # where it starts the tick
-        known = self._bodies.get(key)
-        if known is None:
-            body = Body(store.new_id(), kind, x, y, mask)
-            self._bodies[key] = (sprite, body)
-            store.add(body, None if last is None else (sx, sy))
-            return
-        body = known[1]
-        if body.mask is not mask:
-            store.reshape(body, mask)
-        if body.x != x or body.y != y or body.start_of_tick(store.tick) != (sx, sy):
-            store.move_from(body, sx, sy, x, y)
+        return mask, rect, boxed
+
+    def _drop_unseen(self, tick: int) -> None:
+        """The bodies of sprites this call did not list leave the store."""
+        for tracked in self._tracked.values():
+            for key in [key for key, known in tracked.items() if known.seen != tick]:
+                body = tracked.pop(key).body
+                del self._by_body[body.id]
+                self.store.remove(body)
 
 
 def _drawn(rect: Any, boxed: bool) -> pygame.Rect:
@@ -156,10 +204,13 @@ class GroupCollide:
             touched.setdefault(id(contact.a), set()).add(id(contact.b))
         if not touched:
             return {}
+        met = set().union(*touched.values())
         listed_b = list(group_b)
-        places: dict[int, list[int]] = {}
+        places: dict[int, list[int]] = {}  # (of the sprites met alone: few, most calls)
         for place, sprite in enumerate(listed_b):
-            places.setdefault(id(sprite), []).append(place)
+            key = id(sprite)
+            if key in met:
+                places.setdefault(key, []).append(place)
         hits: dict[Any, list[Any]] = {}
         for sprite in group_a:
             ids = touched.get(id(sprite))
