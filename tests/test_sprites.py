@@ -251,6 +251,24 @@ def test_a_sprite_that_changes_its_picture_is_met_by_the_new_one():
     assert found == [{}, {walker: [target]}, {}]
 
 
+def test_a_sprite_that_drops_its_mask_is_its_rect_and_one_that_takes_one_is_its_mask():
+    """A ring's mask put on and taken off a sprite of the same rect: a dot in its hole is
+    met only while the sprite has no mask (its rect, solid), however often it changes.
+    The collider keeps a box's solid mask while its size stands (not the ring's)."""
+    ring = Thing(0, 0, None, 3, 3)
+    dot = Thing(1, 1, mask("#"))
+    hollow = mask("###", "#.#", "###")
+    collider = SpriteCollider(RuleTable((PairRule(0, 1, motion=Motion.DISCRETE),)))
+    met = []
+    for shape in (None, hollow, None, None, hollow, hollow, None):
+        if shape is None:
+            ring.__dict__.pop("mask", None)
+        else:
+            ring.mask = shape
+        met.append(len(collider.collide({0: [ring], 1: [dot]})))
+    assert met == [1, 0, 1, 1, 0, 0, 1]
+
+
 def test_the_hits_come_in_the_groups_order_as_pygames_not_the_contacts():
     """Contacts come earliest first, groupcollide's answer in the groups' order: a block
     on its target from the start (the earliest contact) and a bullet that meets the lower

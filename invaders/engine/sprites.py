@@ -47,12 +47,13 @@ class SpriteContact(NamedTuple):
 class _Tracked:
     """A sprite the collider follows: its body, and the last call that saw it."""
 
-    __slots__ = ("body", "seen", "sprite")
+    __slots__ = ("body", "seen", "solid", "sprite")
 
     def __init__(self, sprite: Any, body: Body, seen: int) -> None:
         self.sprite = sprite  # (held: its id names it only while it lives)
         self.body = body
         self.seen = seen
+        self.solid: pygame.mask.Mask | None = None  # (the last made for its box, if any)
 
 
 class SpriteCollider:
@@ -93,7 +94,7 @@ class SpriteCollider:
                     self._add(sprite, kind, tick)
                 elif known.seen != tick:  # (a sprite listed twice is looked at once)
                     known.seen = tick
-                    self._sync(known.body, sprite)
+                    self._sync(known, sprite)
                 else:
                     continue
                 seen += 1
@@ -116,7 +117,7 @@ class SpriteCollider:
     def _add(self, sprite: Any, kind: int, tick: int) -> None:
         """A sprite first seen (or back): a new body where it stands, swept from where it
         says it was."""
-        mask, rect, boxed = self._shape(sprite, None)
+        mask, rect, boxed = self._shape(sprite, getattr(sprite, "mask", None), sprite.rect)
         body = Body(self.store.new_id(), kind, rect.x, rect.y, mask)
         self._tracked[kind][id(sprite)] = self._by_body[body.id] = _Tracked(sprite, body, tick)
         last = getattr(sprite, "last_rect", None)
@@ -124,14 +125,15 @@ class SpriteCollider:
             last = _drawn(last, boxed)
         self.store.add(body, None if last is None else (last.x, last.y))
 
-    def _sync(self, body: Body, sprite: Any) -> None:
+    def _sync(self, known: _Tracked, sprite: Any) -> None:
         """The body made what its sprite now is: its picture, where it ended the frame and
         where it started it (its `last_rect`, or where it stands)."""
+        body = known.body
         mask = getattr(sprite, "mask", None)
         rect = sprite.rect
         boxed = False
         if mask is None or type(rect) is not pygame.Rect:  # (a masked Rect is as it is)
-            mask, rect, boxed = self._shape(sprite, body)
+            mask, rect, boxed = self._shape(sprite, mask, rect, known)
         x, y = rect.x, rect.y
         last = getattr(sprite, "last_rect", None)
         if last is None:
@@ -147,20 +149,23 @@ class SpriteCollider:
         if body.x != x or body.y != y or sx != x or sy != y:
             self.store.move_from(body, sx, sy, x, y)
 
-    def _shape(self, sprite: Any, body: Body | None) -> tuple[pygame.mask.Mask, pygame.Rect,
-                                                               bool]:
+    def _shape(self, sprite: Any, mask: pygame.mask.Mask | None, rect: Any,
+               known: _Tracked | None = None) -> tuple[pygame.mask.Mask, pygame.Rect, bool]:
         """The sprite's mask, the rect it stands on and whether that rect is its shape: its
-        `mask`, else (`from_images`) its image's, else a solid one of its rect's size."""
-        mask = getattr(sprite, "mask", None)
+        `mask`, else (`from_images`) its image's, else a solid one of its rect's size (kept
+        for the sprite while its size stands)."""
         if mask is None and self.from_images:
             image = getattr(sprite, "image", None)
             mask = None if image is None else image_mask(image)
         boxed = mask is None  # (its rect is its shape)
-        rect = sprite.rect
         if boxed or type(rect) is not pygame.Rect:
             rect = _drawn(rect, boxed)
         if mask is None:
-            mask = solid_mask(rect.width, rect.height)
+            mask = None if known is None else known.solid
+            if mask is None or mask.get_size() != rect.size:
+                mask = solid_mask(rect.width, rect.height)
+                if known is not None:
+                    known.solid = mask
         return mask, rect, boxed
 
     def _drop_unseen(self, tick: int) -> None:
