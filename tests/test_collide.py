@@ -454,6 +454,32 @@ def test_a_sprite_with_no_picture_met_once_the_second_group_is_all_killed_is_as_
     assert results[0] == results[1] == ([([("a", 0)], 500)], 0)  # (the first met all)
 
 
+@pytest.mark.parametrize("size", [3, 300])  # the plain loop, the fast one
+def test_masks_with_one_image_alone_then_one_with_neither_are_met_as_pygame_meets_them(size):
+    """Sprites with masks and, among the second group's, one with an image alone: its
+    pixels, as pygame's; in its place a plain sprite (no mask, its image None), pygame's
+    error."""
+    side_a = [Thing(i * 7 % 60, i * 3 % 60, 6, 6, holes=5, seed=i) for i in range(size)]
+    side_b = [Thing(i * 5 % 60, i * 11 % 60, 5, 5, holes=3, seed=i) for i in range(size)]
+    odd = side_b[size // 2]
+    del odd.mask
+    odd.image = pygame.Surface((5, 5), pygame.SRCALPHA)
+    odd.image.fill((255, 255, 255, 255), (1, 1, 3, 3))
+    odd.rect.topleft = side_a[0].rect.move(1, 1).topleft  # (its lit 3x3 on a's 6x6)
+    theirs = pygame.sprite.groupcollide(side_a, side_b, False, False, pygame.sprite.collide_mask)
+    assert any(odd in met for met in theirs.values())
+    assert collide.groupcollide(side_a, side_b, False, False, collide.collide_mask) == theirs
+    pictureless = pygame.sprite.Sprite()
+    pictureless.rect = odd.rect
+    side_b[size // 2] = pictureless
+    raised = []
+    for function in (pygame.sprite.groupcollide, collide.groupcollide):
+        with pytest.raises(TypeError) as error:  # (its image None: no surface to read)
+            function(side_a, side_b, False, False, pygame.sprite.collide_mask)
+        raised.append(str(error.value))
+    assert raised[0] == raised[1]
+
+
 class Unhashable:
     """A caller's predicate with `__eq__` alone, so no hash: pygame calls it all the same."""
 

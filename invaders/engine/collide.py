@@ -107,14 +107,24 @@ class collide_circle_ratio:  # (pygame's name)
 
 
 _image_masks: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+# What a sprite without a `mask` gives for one: asked with `getattr` and this default, its
+# absence makes no exception (a sprite with an image alone: 0.07 against 0.42 us, a script).
+NO_MASK: Any = object()
 
 
 def _mask(sprite: Any) -> pygame.mask.Mask:
     """The sprite's `mask`, or the one `collide_mask` makes from its `image`."""
+    mask = getattr(sprite, "mask", NO_MASK)
+    return image_mask(sprite.image) if mask is NO_MASK else mask
+
+
+def _masks(sprites: list[Any]) -> list[pygame.mask.Mask]:
+    """Each sprite's `_mask`: read as attributes while every sprite has one (the usual
+    group), else asked of each (one exception, where one a sprite would cost the most)."""
     try:
-        return sprite.mask
+        return [sprite.mask for sprite in sprites]
     except AttributeError:
-        return image_mask(sprite.image)
+        return [_mask(sprite) for sprite in sprites]
 
 
 def image_mask(image: pygame.Surface) -> pygame.mask.Mask:
@@ -124,7 +134,10 @@ def image_mask(image: pygame.Surface) -> pygame.mask.Mask:
     Invariant: an image keeps its pixels once it has been tested. A sprite whose image is
     drawn on in place should carry a `mask`, or its image be handed to `forget_image`
     after the drawing; a test shows the cache outliving such a drawing and forgotten."""
-    mask = _image_masks.get(image)
+    try:
+        mask = _image_masks.get(image)
+    except TypeError:  # (no surface, None say: pygame's own error, not the cache's)
+        return pygame.mask.from_surface(image)
     if mask is None:
         mask = _image_masks[image] = pygame.mask.from_surface(image)
     return mask
@@ -316,7 +329,7 @@ def _collide_boxes(side_a: list[Any], second: _Second, whole: bool, masks: bool
     group cannot be made (a float corner that is no finite number or past BOX_LIMIT)."""
     # (the first sprite meets all of the second group: pygame makes all their masks)
     side_b = second.sprites
-    mask_b = [_mask(s) for s in side_b] if masks else None
+    mask_b = _masks(side_b) if masks else None
     try:
         boxes_b = ([s.rect for s in side_b] if mask_b is None
                    else _mask_boxes(side_b, mask_b, whole, 0))
@@ -406,7 +419,7 @@ def _collide_near(side_a: list[Any], second: _Second, boxes_b: list[pygame.Rect]
         boxes_a = [s.rect for s in side_a]
     else:
         try:
-            masks_a = [_mask(s) for s in side_a]
+            masks_a = _masks(side_a)
             boxes_a = _mask_boxes(side_a, masks_a, whole, 1)
         except Exception:  # (pygame's error, or none, is the plain loop's to give)
             return None
