@@ -345,6 +345,21 @@ def test_lists_that_hold_a_sprite_twice_or_share_one_give_what_groupcollide_give
             sprite.rect.move_ip(rng.randrange(-3, 4), rng.randrange(-3, 4))
 
 
+def test_groups_given_as_iterators_are_read_once_and_met_whole():
+    """A generator as the first group gives pygame's answer (its loop reads the first group
+    once); as the second, every sprite of the first meets all of it, where pygame's loop
+    reads it up for the first sprite alone (it gave nothing, then raised a KeyError)."""
+    a = [Thing(0, 0, mask("####")), Thing(10, 0, mask("####"))]
+    b = [Thing(1, 0, mask("####")), Thing(11, 0, mask("####"))]
+    whole = {a[0]: [b[0]], a[1]: [b[1]]}
+    assert pygame.sprite.groupcollide(iter(a), b, False, False,
+                                      pygame.sprite.collide_mask) == whole
+    assert GroupCollide()(iter(a), b) == whole
+    assert GroupCollide()(a, (sprite for sprite in b)) == whole
+    assert pygame.sprite.groupcollide(a, iter(b), False, False,
+                                      pygame.sprite.collide_mask) == {a[0]: [b[0]]}
+
+
 def test_a_sprite_with_an_image_is_its_pixels_not_its_rect():
     """Two rings whose rects overlap at a corner and whose lit pixels do not."""
     ring = pygame.Surface((10, 10), pygame.SRCALPHA)

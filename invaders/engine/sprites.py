@@ -15,7 +15,7 @@ are small non-negative integers you choose.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Collection, Iterable, Mapping
 from fractions import Fraction
 from typing import Any, NamedTuple
 
@@ -203,7 +203,14 @@ class GroupCollide:
     def __call__(self, group_a: Iterable[Any], group_b: Iterable[Any]) -> dict[Any, list[Any]]:
         """Each sprite of `group_a` that touched some of `group_b`, with those, as pygame
         gives them: in the groups' order, and a sprite a list holds twice in `group_b`
-        listed twice."""
+        listed twice. A group may be any iterable: one that can be read only once (a
+        generator) is read once, here as in pygame for the first group; as the second,
+        pygame's loop reads it up for the first sprite alone, where here every sprite
+        meets all of it."""
+        if not isinstance(group_a, Collection):  # (each group is read twice below)
+            group_a = list(group_a)
+        if not isinstance(group_b, Collection):
+            group_b = list(group_b)
         touched: dict[int, set[int]] = {}
         for contact in self.collider.collide({0: group_a, 1: group_b}):
             touched.setdefault(id(contact.a), set()).add(id(contact.b))
