@@ -45,7 +45,8 @@ class SpriteContact(NamedTuple):
 
 
 class _Tracked:
-    """A sprite the collider follows: its body, and the last call that saw it."""
+    """A sprite the collider follows: its body, the last call that saw it, and the solid
+    mask last made for its box (where it had no mask)."""
 
     __slots__ = ("body", "seen", "solid", "sprite")
 
