@@ -348,7 +348,8 @@ def test_lists_that_hold_a_sprite_twice_or_share_one_give_what_groupcollide_give
 def test_groups_given_as_iterators_are_read_once_and_met_whole():
     """A generator as the first group gives pygame's answer (its loop reads the first group
     once); as the second, every sprite of the first meets all of it, where pygame's loop
-    reads it up for the first sprite alone (it gave nothing, then raised a KeyError)."""
+    reads it up for the first sprite alone. (Read twice, the first gave no hits and the
+    second raised a KeyError.)"""
     a = [Thing(0, 0, mask("####")), Thing(10, 0, mask("####"))]
     b = [Thing(1, 0, mask("####")), Thing(11, 0, mask("####"))]
     whole = {a[0]: [b[0]], a[1]: [b[1]]}
