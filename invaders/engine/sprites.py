@@ -20,6 +20,7 @@ from fractions import Fraction
 from typing import Any, NamedTuple
 
 import pygame
+from pygame.sprite import AbstractGroup
 
 from invaders.engine.adaptive import DEFAULT_BROADPHASE, make_broadphase
 from invaders.engine.body import Body
@@ -190,6 +191,11 @@ def _drawn(rect: Any, boxed: bool) -> pygame.Rect:
     return drawn
 
 
+# Groups read twice as they are, told apart without asking `Collection` (an abstract class,
+# whose check is a Python call: at 1 sprite a side, a tenth of a call).
+REREAD = (AbstractGroup, list, tuple)
+
+
 class GroupCollide:
     """`pygame.sprite.groupcollide(a, b, False, False, collide_mask)`, as the engine does it:
     keep one per pair of groups you test every frame, and call it like the original. A
@@ -208,9 +214,9 @@ class GroupCollide:
         generator) is read once, here as in pygame for the first group; as the second,
         pygame's loop reads it up for the first sprite alone, where here every sprite
         meets all of it."""
-        if not isinstance(group_a, Collection):  # (each group is read twice below)
-            group_a = list(group_a)
-        if not isinstance(group_b, Collection):
+        if not isinstance(group_a, REREAD) and not isinstance(group_a, Collection):
+            group_a = list(group_a)  # (each group is read twice below)
+        if not isinstance(group_b, REREAD) and not isinstance(group_b, Collection):
             group_b = list(group_b)
         touched: dict[int, set[int]] = {}
         for contact in self.collider.collide({0: group_a, 1: group_b}):
