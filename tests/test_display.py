@@ -1,5 +1,6 @@
 """Opening SDL's display for a window: refused where SDL falls back to a driver that shows
-nothing, taken where that driver is asked for by name (the tests' dummy one)."""
+nothing (or, for the environment's window, opened there and the caller told why), taken
+where that driver is asked for by name (the tests' dummy one)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,8 @@ from invaders.display import open_display
 def test_a_driver_that_shows_nothing_is_refused_unless_asked_for(monkeypatch, fallback):
     """DISPLAY names a server SDL cannot reach, so SDL falls back (stood in for here: its
     probing is the machine's); the display is closed again and the error names the
-    driver. Asked for by name, the same driver is taken."""
+    driver. With `nowhere`, it stays open and `nowhere` is told the same. Asked for by
+    name, the same driver is taken."""
     opened, closed = [], []
     monkeypatch.setattr(pygame.display, "init", lambda: opened.append(True))
     monkeypatch.setattr(pygame.display, "quit", lambda: closed.append(True))
@@ -23,9 +25,14 @@ def test_a_driver_that_shows_nothing_is_refused_unless_asked_for(monkeypatch, fa
     with pytest.raises(pygame.error, match=f"SDL fell back to its '{fallback}' driver"):
         open_display()
     assert len(opened) == len(closed) == 1
-    monkeypatch.setenv("SDL_VIDEODRIVER", fallback)
-    open_display()
+    told: list[str] = []
+    open_display(nowhere=told.append)
+    assert told == [f"no display: SDL fell back to its '{fallback}' driver, which shows no "
+                    "window"]
     assert len(opened) == 2 and len(closed) == 1
+    monkeypatch.setenv("SDL_VIDEODRIVER", fallback)
+    open_display(nowhere=told.append)
+    assert len(opened) == 3 and len(closed) == 1 and len(told) == 1
 
 
 @pytest.mark.parametrize("asked, size_at, expected", [

@@ -1266,25 +1266,48 @@ def test_two_environments_shown_at_once_each_keep_a_window_of_their_own():
             pygame.display.quit()
 
 
-@pytest.mark.parametrize(("driver", "why"), [
-    (None, "neither DISPLAY nor WAYLAND_DISPLAY is set"),  # SDL would fall back: refused
-    ("x11", "x11 not available"),  # asked for by name, and SDL cannot open it
-])
-def test_human_rendering_without_a_display_says_so_at_reset(driver: str | None, why: str):
-    """Where no window can be seen, reset in human mode raises a pygame.error naming the
-    mode and why (not a window opened on SDL's 'offscreen' driver, shown nowhere)."""
-    code = ("import gymnasium, pygame, invaders.env\n"
-            f"env = gymnasium.make({ENV_ID!r}, obs_type='state', render_mode='human')\n"
-            "try:\n    env.reset(seed=0)\n"
-            "except pygame.error as error:\n    print(error)")
+def _without_a_display(code: str, driver: str | None = None) -> subprocess.CompletedProcess:
+    """`code` run by Python in a process with no display (and SDL's driver as given)."""
     env = {key: value for key, value in os.environ.items()
            if key not in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER")}
     if driver is not None:
         env["SDL_VIDEODRIVER"] = driver
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          check=True, env=env, timeout=60)
+    return subprocess.run([sys.executable, "-W", "always", "-c", code], capture_output=True,
+                          text=True, check=True, env=env, timeout=120)
+
+
+def test_human_rendering_with_a_driver_asked_for_that_cannot_open_says_so_at_reset():
+    """An SDL driver asked for by name that cannot open: reset in human mode raises a
+    pygame.error naming the mode and why."""
+    code = ("import gymnasium, pygame, invaders.env\n"
+            f"env = gymnasium.make({ENV_ID!r}, obs_type='state', render_mode='human')\n"
+            "try:\n    env.reset(seed=0)\n"
+            "except pygame.error as error:\n    print(error)")
+    done = _without_a_display(code, "x11")
     assert done.stdout.startswith("render_mode 'human' shows a window, and cannot here")
-    assert why in done.stdout
+    assert "x11 not available" in done.stdout
+
+
+def test_without_a_display_human_rendering_warns_and_gymnasiums_checker_passes():
+    """Without a display the window opens on the driver SDL falls back to, where it shows
+    nowhere, as Gymnasium's own environments' and ALE's do: a warning says so, and
+    Gymnasium's checker, which opens every render mode the metadata names, passes for each
+    observation (reset raised a pygame.error there, and the checker with it)."""
+    code = ("import gymnasium, invaders.env\n"
+            "from gymnasium.utils.env_checker import check_env\n"
+            "for obs_type in ('rgb', 'grayscale', 'state'):\n"
+            f"    env = gymnasium.make({ENV_ID!r}, obs_type=obs_type)\n"
+            "    check_env(env.unwrapped)\n"
+            "    print('checked', obs_type)\n"
+            f"env = gymnasium.make({ENV_ID!r}, obs_type='state', render_mode='human')\n"
+            "env.reset(seed=0)\n"
+            "print(env.step(1)[4]['episode_frame_number'])\n"
+            "env.close()")
+    done = _without_a_display(code)
+    assert done.stdout.split() == ["checked", "rgb", "checked", "grayscale", "checked",
+                                   "state", "4"]
+    assert ("RuntimeWarning: render_mode 'human': no display: neither DISPLAY nor "
+            "WAYLAND_DISPLAY is set: the window opens there and shows nowhere") in done.stderr
 
 
 def test_the_window_shows_the_game_at_its_own_speed():

@@ -2,11 +2,15 @@
 `Window`, not the display's one surface), so that two shown in one process each keep
 theirs, and closing one leaves the others showing. SDL's display is opened with the first
 window and quit with the last, unless the program had it open before (its own window, a
-game's say, stays as it was).
+game's say, stays as it was). Without a display the window opens on the driver SDL falls
+back to, where it shows nowhere, with a warning saying so: as Gymnasium's own environments
+and ALE's do (without the warning), so that code written for them, Gymnasium's checker
+among it, runs on a machine with no screen.
 """
 
 from __future__ import annotations
 
+import warnings
 import weakref
 from typing import ClassVar
 
@@ -26,10 +30,11 @@ class EnvWindow:
 
     def __init__(self, title: str, size: tuple[int, int], scale: int) -> None:
         """Opened now, the picture's `size` at `scale` or the largest that fits on the
-        screen (a pygame.error, from `open_display`, where no window can show)."""
+        screen (a pygame.error, from `open_display`, where SDL has no driver to open, or
+        not the one asked for by name)."""
         if not EnvWindow.open_ones:
             EnvWindow.display_ours = not pygame.display.get_init()
-        open_display()
+        open_display(nowhere=_shown_nowhere)
         scale = fitting_scale(scale, lambda scale: (size[0] * scale, size[1] * scale))
         self.window = pygame.Window(title, (size[0] * scale, size[1] * scale))
         EnvWindow.open_ones.add(self)
@@ -46,3 +51,9 @@ class EnvWindow:
         EnvWindow.open_ones.discard(self)
         if not EnvWindow.open_ones and EnvWindow.display_ours:
             pygame.display.quit()
+
+
+def _shown_nowhere(why: str) -> None:
+    warnings.warn(f"render_mode 'human': {why}: the window opens there and shows nowhere, as "
+                  "Gymnasium's own environments' do ('rgb_array' gives the pictures)",
+                  RuntimeWarning, stacklevel=4)  # (at the environment's render)
