@@ -322,6 +322,29 @@ def test_the_bench_times_ours_and_groupcollide_by_turns_and_each_finds_the_games
     assert any(pairs)
 
 
+def test_the_bench_holds_group_collide_to_pygames_answer_and_a_wrong_one_misses_its_goal(
+        capsys):
+    """Section 5's GroupCollide rows: a row for each size and motion where the answer is
+    pygame's (swept: holds pygame's), and a collider that finds nothing is told apart at
+    10 a side, where pygame finds a touch in each motion, and fails the goal."""
+    from invaders.lab.bench import Goals
+    from invaders.lab.bench_sprites import COLLIDER_FROM, COLLIDER_MOTIONS, collider_table
+
+    goal = Goals(3)
+    collider_table(3, goal, largest=COLLIDER_FROM)
+    printed = capsys.readouterr().out
+    assert "WARNING" not in printed
+    for n in (1, 5, 10):
+        for motion in COLLIDER_MOTIONS:
+            assert f"{n:>5} a side  {motion:<6} GroupCollide" in printed
+    wrong = Goals(3)
+    collider_table(3, wrong, largest=COLLIDER_FROM, make=lambda: lambda a, b: {})
+    printed = capsys.readouterr().out
+    for motion in COLLIDER_MOTIONS:
+        assert f"WARNING 10 a side, {motion}, GroupCollide: a different result" in printed
+    assert wrong.missed == 1 and "goal GroupCollide faster" in printed
+
+
 def test_the_labs_broad_phases_are_the_engines_and_the_cell_applies_where_it_is_used():
     from invaders.engine.adaptive import BROADPHASES, DEFAULT_BROADPHASE
     from invaders.lab.choices import BROADS, CELLED

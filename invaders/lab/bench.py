@@ -516,7 +516,8 @@ def bench(ticks: int = 3600, seed: int = 7, rounds: int = 10, ale: bool = False,
         print_ale(figures, ticks, goal)
     if big:
         big_scenes(rounds, goal)
-    from invaders.lab.bench_sprites import sprite_table
+    from invaders.lab.bench_sprites import collider_table, sprite_table
 
     sprite_table(rounds, goal, big, largest)
+    collider_table(rounds, goal, largest)
     return 1 if goal.missed else 0
