@@ -458,12 +458,13 @@ def test_a_body_crossing_a_cell_edge_is_re_binned_once_and_keeps_the_cells_it_en
 
 
 @ON_CELLS
-def test_a_body_keeps_a_larger_range_only_while_few_bodies_move(make):
-    """A larger range spares a re-bin and a look; with many bodies moving the grid looks
-    anyway, so a body (here a probe) gets its exact range back."""
-    from invaders.engine.grid import FEW_MOVES
+def test_a_body_keeps_a_larger_range_only_while_few_bodies_move_at_game_scale(make):
+    """A larger range spares a re-bin and a look; with many bodies moving out of their
+    cells the grid looks anyway, and in a scene past the game's scale larger ranges would
+    cost candidates, so there a body (here a probe) gets its exact range back."""
+    from invaders.engine.grid import FEW_MOVES, GAME_SCALE
 
-    for others in (0, FEW_MOVES):
+    for others, step in ((0, 0), (FEW_MOVES, 32), (GAME_SCALE, 0)):
         store, grid, detector, probe, _ = _two_blocks((26, 2), (200, 200), make=make)
         crowd = [Body(10 + k, 1, 100 + 8 * k, 100, probe.mask) for k in range(others)]
         for body in crowd:
@@ -473,12 +474,92 @@ def test_a_body_keeps_a_larger_range_only_while_few_bodies_move(make):
         for x in (30, 34):
             store.tick += 1
             store.move(probe, x, 2)
-            for body in crowd:
-                store.move(body, body.x, body.y + 1)
+            for body in crowd if step else ():
+                store.move(body, body.x, body.y + step)
             detector.detect(store)
             ranges.append(_cells(grid, probe.id))
         kept = (0, 0, 1, 0) if others == 0 else (1, 0, 1, 0)
-        assert ranges == [(0, 0, 1, 0), kept]
+        assert ranges == [(0, 0, 1, 0), kept], others
+
+
+def test_a_move_the_store_does_not_report_inside_an_exact_fence_changes_no_cells():
+    """The invariant the exact fence keeps, for every alignment of boxes of 1 to 12 px on
+    cells of 1, 3 and 8, along x and along y: from a range (the cells of a box, or of its
+    path on, as a swept body's), the store reports a move (the box leaves the fence)
+    exactly when the box's cells are no longer that range; a range the box cannot cover
+    all of reports every move."""
+    from types import SimpleNamespace
+
+    import pygame
+
+    from invaders.engine.grid import exact_fence
+    from invaders.engine.store import BodyStore
+
+    store, buffer = BodyStore((1,)), []
+    store.attach(SimpleNamespace(move_buffer=buffer))
+    ids = iter(range(1, 1000))
+    for c in (1, 3, 8):
+        across = -(-4 // c) * c  # (the other axis: a box 4 px deep at 0 covers 0..across)
+        for size in range(1, 13):
+            def span(start: int, c: int = c, size: int = size) -> tuple[int, int]:
+                return start // c * c, -(-(start + size) // c) * c
+
+            for along_y in (False, True):
+                shape = (4, size) if along_y else (size, 4)
+                body = Body(next(ids), 1, 0, 0, pygame.mask.Mask(shape, fill=True))
+                store.add(body)
+                for start in range(2 * c):
+                    for path in (0, size // 2, size + c):  # (a box, or a path from it)
+                        lo, hi = span(start)[0], span(start + path)[1]
+                        cells = (0, lo, across, hi) if along_y else (lo, 0, hi, across)
+                        for step in range(-2 * c - size, 2 * c + size + 1):
+                            body.x, body.y = (0, start) if along_y else (start, 0)
+                            body.fence = exact_fence(cells, c, body.w, body.h)
+                            buffer.clear()
+                            store.tick += 1
+                            to = start + step
+                            store.move(body, *((0, to) if along_y else (to, 0)))
+                            assert bool(buffer) == (span(to) != (lo, hi)), (
+                                c, size, along_y, start, path, step)
+                store.remove(body)
+
+
+@ON_CELLS
+def test_beyond_game_scale_a_move_within_the_same_cells_goes_unheard_and_ranges_stay_exact(
+        make):
+    """Past GAME_SCALE bodies (or when many move) a body's fence is exact: of bodies
+    jittering a pixel or two, the broad phase hears those whose cells changed and only
+    those, and every range stays the cells of its box (what a fresh broad phase bins)."""
+    from invaders.engine.grid import GAME_SCALE
+    from invaders.engine.rules import Motion, PairRule, RuleTable, Shape
+    from invaders.engine.store import BodyStore
+
+    rng = random.Random(5)
+    store, broad = BodyStore((1, 2)), make(32)
+    detector = Detector(broad, RuleTable((PairRule(1, 2, Shape.BOX, Shape.BOX, Motion.DISCRETE),)))
+    block = art.mask_of(("#####",) * 5)
+    bodies = [Body(i + 1, 1 + i % 2, rng.randrange(300), rng.randrange(300), block)
+              for i in range(GAME_SCALE + 36)]
+    for body in bodies:
+        store.add(body)
+    detector.detect(store)
+
+    def cells(body: Body) -> tuple[int, int, int, int]:
+        return body.x // 32, body.y // 32, (body.x + 4) // 32, (body.y + 4) // 32
+
+    heard_in_all = 0
+    for tick in range(1, 40):
+        store.tick = tick
+        changed = 0
+        for body in bodies:
+            was = cells(body)
+            store.move(body, body.x + rng.randint(-2, 2), body.y + rng.randint(-2, 2))
+            changed += cells(body) != was
+        assert len(broad.move_buffer) == changed
+        heard_in_all += changed
+        detector.detect(store)
+        assert all(_cells(broad, body.id) == cells(body) for body in bodies)
+    assert 0 < heard_in_all < len(bodies) * 39 // 4  # (most moves kept their cells)
 
 
 @ON_CELLS

@@ -28,7 +28,8 @@ from invaders.engine.rules import PairRule
 # px: about the size of the game's bodies and gaps. `invaders study` times 4 to 128 px on
 # each scene (docs/study.md); larger cells gain little at game scale and lose in storms.
 DEFAULT_CELL = 32
-FEW_MOVES = 8  # bodies in the move buffer up to which a body keeps a larger range
+FEW_MOVES = 8  # bodies in the move buffer up to which a body keeps a larger range...
+GAME_SCALE = 64  # ...in a scene of up to this many bodies (the game's most: a wave's start)
 LARGE_CELLS = 1024  # a body whose range has more cells is not binned (`Grid.large`)
 CellRange = tuple[int, int, int, int]
 NONE: CellRange = (1, 1, 0, 0)  # a range of no cells
@@ -42,6 +43,19 @@ def is_large(r: CellRange) -> bool:
 def ranges_meet(r: CellRange, q: CellRange) -> bool:
     """Whether two ranges share a cell (what binning both would find)."""
     return r[0] <= q[2] and q[0] <= r[2] and r[1] <= q[3] and q[1] <= r[3]
+
+
+def exact_fence(cells: tuple[int, int, int, int], c: int, w: int, h: int
+                ) -> tuple[int, int, int, int]:
+    """The fence of a w x h box whose range is `cells` (their box in px, whole cells of c
+    px): where the box covers exactly those cells, so that a move inside it, which the
+    store does not report, changes no range. Inside out (every move reported) where the
+    box cannot cover them all (a swept range) or has no width or height."""
+    if w <= 0 or h <= 0:
+        return NOWHERE
+    x0, y0, x1, y1 = cells
+    return (max(x0, x1 - c - w + 1), max(y0, y1 - c - h + 1),
+            min(x1, x0 + c + w - 1), min(y1, y0 + c + h - 1))
 
 
 def checked_cell(cell: int) -> int:
@@ -60,12 +74,14 @@ class Grid(BroadPhase):
 
     Swept kinds are binned by the union of their boxes at the start and end of the tick. A
     body that stopped keeps the range of its last motion until it next changes. While few
-    bodies move, a body's fence is its cells: the store does not report it while its box
-    stays inside them (one that moves on keeps the cells it is entering), a superset, which
-    is safe, so crossing a cell edge re-bins once, not on entering and again on leaving,
-    and the last answer stands more often. When many move (a storm) the grid looks every
-    tick anyway, and larger ranges would only add candidates (a quarter more at 10,000
-    bodies): a body then gets no fence, so its range stays exact.
+    bodies move in a scene of the game's scale, a body's fence is its cells: the store does
+    not report it while its box stays inside them (one that moves on keeps the cells it is
+    entering), a superset, which is safe, so crossing a cell edge re-bins once, not on
+    entering and again on leaving, and the last answer stands more often. When many move
+    (a storm), or the scene is larger, larger ranges would only add candidates (a quarter
+    more at 10,000 bodies): a body's fence is then where its box covers exactly its cells
+    (`exact_fence`), so its range stays exact and a move within the same cells, a sprite
+    jittering on the spot, is not heard.
 
     A body whose range covers more than LARGE_CELLS cells (one the size of a world, or
     swept across one in a tick) is not binned: it is kept aside in `large` and met by
@@ -105,13 +121,14 @@ class Grid(BroadPhase):
         """Apply the move buffer: what was added, removed, resized or moved out of its
         fence. Every body's cell range is kept (a probe's too, so a query need not work it
         out); only bodies of probed kinds are binned. The version moves when any range
-        does. Each body drained gets its cells as its fence while few moved, else none."""
+        does. Each body drained gets its cells as its fence while few moved in a scene of
+        the game's scale, else its exact fence."""
         swept, probed = kinds
         ranges = self.ranges
         c = self.cell
         changed = False
         buffer = kept(self.move_buffer)
-        fenced = len(buffer) <= FEW_MOVES
+        loose = len(buffer) <= FEW_MOVES and len(ranges) <= GAME_SCALE
         for body in buffer:
             if not body.alive:
                 old = ranges.get(body.id)
@@ -145,8 +162,8 @@ class Grid(BroadPhase):
                     self.rebins += 1
                 ranges[body.id] = new
                 changed = True
-            body.fence = ((cx0 * c, cy0 * c, (cx1 + 1) * c, (cy1 + 1) * c) if fenced
-                          else NOWHERE)
+            box = (cx0 * c, cy0 * c, (cx1 + 1) * c, (cy1 + 1) * c)
+            body.fence = box if loose else exact_fence(box, c, body.w, body.h)
         buffer.clear()
         if changed:
             self.version += 1

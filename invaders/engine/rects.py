@@ -6,8 +6,9 @@ a probe's cells in Python, and a body that crosses a cell edge changes one rect 
 instead of leaving and joining cell lists. So at game scale it answers sooner than the
 grid; from a few hundred bodies the grid's locality wins (`detector.GRID_FROM`). Two
 bodies' rects overlap exactly when their cell ranges share a cell, and the rects follow the
-grid's rules (a body's cells are its fence while few move; a resting swept body keeps the
-range of its last motion), so the candidates are the grid's, pair for pair.
+grid's rules (a body's cells are its fence while few move at game scale, else its exact
+fence; a resting swept body keeps the range of its last motion), so the candidates are the
+grid's, pair for pair.
 """
 
 from __future__ import annotations
@@ -20,9 +21,9 @@ from typing import Any
 
 import pygame
 
-from invaders.engine.body import NOWHERE, Body, copy_bodies, tick_box
+from invaders.engine.body import Body, copy_bodies, tick_box
 from invaders.engine.broadphase import BroadPhase, Group, KindSets, Pair, Scene, kept, pair_key
-from invaders.engine.grid import DEFAULT_CELL, FEW_MOVES, checked_cell
+from invaders.engine.grid import DEFAULT_CELL, FEW_MOVES, GAME_SCALE, checked_cell, exact_fence
 from invaders.engine.rules import PairRule
 
 _ID = attrgetter("id")
@@ -94,13 +95,13 @@ class CellRects(BroadPhase):
     def _drain(self, tick: int, kinds: KindSets) -> None:
         """Apply the move buffer: each body's rect is the cells its box covers (over the
         tick's motion for swept kinds), changed in place; the fence is the same box while
-        few moved (as the grid's), so a fence is the rect as it was (or no box at all)."""
+        few moved in a scene of the game's scale, else the exact fence (as the grid's)."""
         swept = kinds.swept
         rect_of = self.rect_of
         bounds = self.bounds
         c = self.cell
         buffer = kept(self.move_buffer)
-        fenced = len(buffer) <= FEW_MOVES
+        loose = len(buffer) <= FEW_MOVES and len(rect_of) <= GAME_SCALE
         for body in buffer:
             rect = rect_of.get(body.id)
             if not body.alive:
@@ -117,7 +118,8 @@ class CellRects(BroadPhase):
             fy0 = y0 // c * c
             fx1 = -(-x1 // c) * c
             fy1 = -(-y1 // c) * c
-            body.fence = (fx0, fy0, fx1, fy1) if fenced else NOWHERE
+            cells = (fx0, fy0, fx1, fy1)
+            body.fence = cells if loose else exact_fence(cells, c, body.w, body.h)
             if not (-EDGE <= fx0 <= fx1 <= EDGE and -EDGE <= fy0 <= fy1 <= EDGE):
                 fx0, fx1 = held(fx0, fx1)
                 fy0, fy1 = held(fy0, fy1)
