@@ -328,17 +328,17 @@ def test_the_bench_holds_group_collide_to_pygames_answer_and_a_wrong_one_misses_
     pygame's (swept: holds pygame's), and a collider that finds nothing is told apart at
     10 a side, where pygame finds a touch in each motion, and fails the goal."""
     from invaders.lab.bench import Goals
-    from invaders.lab.bench_sprites import COLLIDER_FROM, COLLIDER_MOTIONS, collider_table
+    from invaders.lab.bench_sprites import COLLIDER_MOTIONS, collider_table
 
     goal = Goals(3)
-    collider_table(3, goal, largest=COLLIDER_FROM)
+    collider_table(3, goal, largest=10)
     printed = capsys.readouterr().out
     assert "WARNING" not in printed
     for n in (1, 5, 10):
         for motion in COLLIDER_MOTIONS:
             assert f"{n:>5} a side  {motion:<6} GroupCollide" in printed
     wrong = Goals(3)
-    collider_table(3, wrong, largest=COLLIDER_FROM, make=lambda: lambda a, b: {})
+    collider_table(3, wrong, largest=10, make=lambda: lambda a, b: {})
     printed = capsys.readouterr().out
     for motion in COLLIDER_MOTIONS:
         assert f"WARNING 10 a side, {motion}, GroupCollide: a different result" in printed

@@ -1,6 +1,6 @@
 """pygame sprite groups in, contacts and counters out: the engine as a drop-in for
-`pygame.sprite.groupcollide(..., collide_mask)` that is exact, swept and, from ten sprites
-a side, faster (still sprites from five: section 5 of `invaders bench` times it).
+`pygame.sprite.groupcollide(..., collide_mask)` that is exact, swept and, from five sprites
+a side, faster (section 5 of `invaders bench` times it).
 
 Each call is one tick. A sprite is a body of its group's kind at `rect.topleft`, shaped by
 its `mask` where it has one and by its rect where it has not (`GroupCollide`, as pygame's

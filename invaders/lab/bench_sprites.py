@@ -41,7 +41,7 @@ GOALS = {100: 5.0, 1000: 50.0}  # times faster than pygame with collide_mask, at
 # still, moving (each tested where it is) and swept (each giving a `last_rect`: tested
 # along its step, a touch between the two places found too).
 COLLIDER_MOTIONS = ("still", "moving", "swept")
-COLLIDER_FROM = 10  # a side: from here GroupCollide's goal, faster than pygame's
+COLLIDER_FROM = 5  # a side: from here GroupCollide's goal, faster than pygame's
 ROUND_SECONDS = 0.01
 
 
