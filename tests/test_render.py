@@ -186,6 +186,29 @@ def test_a_kept_line_of_text_lights_exactly_its_glyphs_pixels_first_time_and_aga
         assert lit == expected | {(x + 1, y + 7)}
 
 
+def test_on_a_grey_picture_lines_and_sprites_take_its_palette_and_light_its_white():
+    """Surfaces made for a picture of a byte a pixel take its palette, so SDL blits them
+    byte for byte (between two palettes it maps every colour to its nearest at a surface's
+    first blit: a new line of text 90 us); what they draw is the same, white as 255."""
+    from invaders.game.art import lit_cells
+    from invaders.lab import font
+
+    pic = _canvas_picture(grey=True)
+    palette = pic.screen.get_palette()
+    message, x, y = "0420", 9, 20
+    assert pic.line(message).get_palette() == palette
+    for picture in (art.CANNON, art.SHOT, art.SAUCER, font.glyph("4")):
+        assert pic.sprite(picture).get_palette() == palette
+    pic.text(message, x, y)
+    pic.screen.blit(pic.sprite(art.CANNON), (100, 200))
+    expected = {(x + i * font.ADVANCE + cx, y + cy) for i, ch in enumerate(message)
+                for cx, cy in lit_cells(font.glyph(ch))}
+    expected |= {(100 + cx, 200 + cy) for cx, cy in lit_cells(art.CANNON)}
+    rows, cols = np.nonzero(pic.canvas)
+    assert set(zip(cols.tolist(), rows.tolist(), strict=True)) == expected
+    assert set(pic.canvas[rows, cols].tolist()) == {255}
+
+
 def test_the_hit_cannon_is_held_for_five_frames_then_shows_the_1c80_debris_first():
     from invaders.game.config import DEFAULT_CONFIG
     from invaders.lab.picture import cannon_picture

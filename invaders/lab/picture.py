@@ -20,7 +20,7 @@ from invaders.game.players import PROMPT
 from invaders.game.rack import pictures_apart
 from invaders.game.world import Phase, World
 from invaders.lab import font
-from invaders.lab.rack_layer import RackLayer
+from invaders.lab.rack_layer import RackLayer, palette_of
 
 WHITE = (255, 255, 255, 255)
 BACKGROUND = (0, 0, 0)
@@ -62,6 +62,8 @@ class Picture:
                  canvas: np.ndarray | None = None) -> None:
         self.screen = screen if screen is not None else pygame.Surface((SCREEN_W, SCREEN_H))
         self.canvas = canvas
+        # (a byte a pixel: the screen's palette, as given, for the surfaces made for it)
+        self._palette = palette_of(self.screen) if self.screen.get_bitsize() == 8 else None
         self.gel = gel_surface()
         self._sprites: dict[art.Art, pygame.Surface] = {}
         self._texts: dict[str, pygame.Surface] = {}
@@ -89,10 +91,20 @@ class Picture:
         """A white-on-transparent picture as white on a colour key, in the screen's format:
         the same pixels drawn, and the cheapest blit there is (run-length coded), where
         per-pixel alpha is the dearest."""
-        keyed = pygame.Surface(picture.get_size(), 0, self.screen)
+        keyed = self._blank(picture.get_size())
         keyed.blit(picture, (0, 0))
         keyed.set_colorkey(BACKGROUND, pygame.RLEACCEL)
         return keyed
+
+    def _blank(self, size: tuple[int, int]) -> pygame.Surface:
+        """A surface in the screen's pixel format, with its palette where a pixel is a
+        byte: SDL blits between two surfaces of one palette byte for byte, and between
+        two palettes through a map of each colour to its nearest, made at each first
+        blit (a new line of text onto the grey picture 90 against 1.4 us, a script)."""
+        blank = pygame.Surface(size, 0, self.screen)
+        if self._palette is not None:
+            blank.set_palette(self._palette)
+        return blank
 
     def text(self, message: str, x: int, y: int) -> None:
         """A line of text at (x, y)."""
@@ -106,7 +118,7 @@ class Picture:
         if line is None:
             if len(self._texts) >= TEXTS_KEPT:
                 self._texts.clear()
-            line = pygame.Surface((max(len(message), 1) * font.ADVANCE, 8), 0, self.screen)
+            line = self._blank((max(len(message), 1) * font.ADVANCE, 8))
             for i, ch in enumerate(message):
                 line.blit(self.sprite(font.glyph(ch)), (i * font.ADVANCE, 0))
             line.set_colorkey(BACKGROUND, pygame.RLEACCEL)

@@ -39,7 +39,7 @@ class RackLayer:
         # (numpy's stubs give an array the buffer protocol from Python 3.12 on)
         self.surface = pygame.image.frombuffer(self.array, screen.get_size(), form)  # type: ignore[arg-type]
         if form == "P":
-            self.surface.set_palette(_palette(screen))
+            self.surface.set_palette(palette_of(screen))
         # Sprites of its own: SDL keeps how a surface was last blitted (to which surface)
         # and redoes it, run-length coding and all, for another one, so layers sharing
         # sprites (a batch's games') would redo it at every blit.
@@ -54,7 +54,7 @@ class RackLayer:
         mask = art.mask_of(picture)
         eraser = pygame.Surface(mask.get_size(), 0, self.surface)
         if eraser.get_bitsize() == 8:  # (a new 8-bit surface has a palette of its own)
-            eraser.set_palette(_palette(self.surface))
+            eraser.set_palette(palette_of(self.surface))
         eraser.fill(KEY)
         mask.to_surface(eraser, setcolor=(0, 0, 0), unsetcolor=None)
         eraser.set_colorkey(KEY, pygame.RLEACCEL)
@@ -86,7 +86,7 @@ class RackLayer:
             np.bitwise_or(band, self.array[top:bottom], out=band)
 
 
-def _palette(surface: pygame.Surface) -> Any:
+def palette_of(surface: pygame.Surface) -> Any:
     """A surface's palette: a tuple, where pygame's stubs say a list (which compiled code,
     taking them at their word, would check and refuse)."""
     return cast(Any, surface).get_palette()
