@@ -358,6 +358,36 @@ def test_a_state_cloned_and_restored_plays_the_same_steps_each_time(options, tmp
     assert main(["replay", str(episode)]) == 0 and "ok " in capsys.readouterr().out
 
 
+def test_a_states_world_is_the_environments_until_a_frame_is_played_on_a_copy(tmp_path):
+    """A search's node restores a state, steps and clones: the state and the environment
+    share the world (no copy at a clone or a restore), and the environment copies it
+    before it plays a frame, so the state's world stays as it was cloned, however often it
+    is restored and played from; a step after game over plays no frame and copies none.
+    Where episodes are recorded, a state is copied at once (its recording changes as the
+    episode is written)."""
+    env = SpaceInvadersEnv(obs_type="state", repeat_action_probability=0.0)
+    env.reset(seed=5)
+    _played(env, [1, 2, 3] * 20)
+    state = env.clone_state()
+    assert state.world is env.world
+    cloned = state.world.state_hash()
+    first = _played(env, [4] * 30)
+    assert env.world is not state.world and state.world.state_hash() == cloned
+    for _ in range(2):
+        env.restore_state(state)
+        assert env.world is state.world
+        assert _played(env, [4] * 30) == first and state.world.state_hash() == cloned
+    while not env.step(1)[2]:
+        pass
+    over = env.clone_state()
+    env.step(1)
+    assert env.world is over.world
+    recorded = SpaceInvadersEnv(obs_type="state", record=tmp_path)
+    recorded.reset(seed=5)
+    recorded.step(1)
+    assert recorded.clone_state().world is not recorded.world
+
+
 @pytest.mark.parametrize("options", [{"obs_type": "rgb"},
                                      {"obs_type": "grayscale", "resize": (84, 84), "stack": 4}])
 def test_a_deep_copy_of_the_environment_plays_on_as_it_would(options):

@@ -86,8 +86,9 @@ class EnvState:
     """An episode as it stood, from `clone_state`, to go back to with `restore_state`: its
     world, the last frame's input (sticky actions repeat it), the frame counts, the frames
     stacked, the recording so far, and (if asked for) the generator of sticky actions and
-    frame skips. Nothing in it is shared with the environment: restored again, it plays
-    the same again."""
+    frame skips. Nothing in it changes: its world may be the environment's until the
+    environment plays a frame, which it plays on a copy; restored again, it plays the same
+    again."""
     world: World
     previous: int
     episode_frames: int
@@ -145,6 +146,9 @@ class SpaceInvadersEnv(gym.Env):
             self._recorder.watch(self)
         self.frame_number = 0
         self.world: World | None = None
+        # Whether the world is a state's too (`clone_state`, `restore_state`): it is then
+        # copied before a frame is played on it, so the state stays as it was.
+        self._shared = False
 
     def __getstate__(self) -> dict[str, Any]:
         """Copied or pickled without its window (a copy that shows the game opens one)."""
@@ -231,7 +235,7 @@ class SpaceInvadersEnv(gym.Env):
         if seed is not None:  # as ALE, which loads its cartridge again when seeded
             self.frame_number = 0
         world_seed = int(self.np_random.integers(0, 2**31 - 1))
-        self.world = World(world_seed, DEFAULT_CONFIG)
+        self.world, self._shared = World(world_seed, DEFAULT_CONFIG), False
         # The episode's sticky actions and frame skips come from a generator of their own
         # (as ALE's from its own), seeded from the environment's: a draw from it costs a
         # few hundredths of a microsecond, a draw of numpy's about ten a step.
@@ -250,6 +254,9 @@ class SpaceInvadersEnv(gym.Env):
         assert world is not None
         if world.phase is GAME_OVER or self.cut_short:
             return 0.0, world.phase is GAME_OVER, self.cut_short, []
+        if self._shared:  # (a state's world: played on, the state would change)
+            world = self.world = copy.deepcopy(world)
+            self._shared = False
         score = world.score
         # Sticky actions, frame by frame: each frame keeps the previous frame's input with
         # the given probability.
@@ -286,12 +293,12 @@ class SpaceInvadersEnv(gym.Env):
     def clone_state(self, include_rng: bool = False) -> EnvState:
         """The episode as it stands, for `restore_state` (as ALE's: a search tries moves
         from one state). With include_rng, also the generator of sticky actions and frame
-        skips: the same actions after a restore then give the same episode."""
+        skips: the same actions after a restore then give the same episode. The world is
+        shared with the state until a frame is played (`_share`)."""
         if self.world is None:
             raise RuntimeError("call reset() before clone_state()")
-        recording = None if self._recorder is None else self._recorder.current
-        # (copied together: the recording's world is the world's copy)
-        world, recording = copy.deepcopy((self.world, recording))
+        world, recording = self._share(self.world, None if self._recorder is None
+                                       else self._recorder.current)
         return EnvState(world, self._previous, self._episode_frames, self.frame_number,
                         None if self._stack is None else self._stack.frames.copy(), recording,
                         self._draws.getstate() if include_rng else None)
@@ -310,7 +317,7 @@ class SpaceInvadersEnv(gym.Env):
                                         or stacked.shape != self._stack.frames.shape):
             raise ValueError("restore_state: the state is of an environment that stacks "
                              "other pictures")
-        self.world, recording = copy.deepcopy((state.world, state.recording))
+        self.world, recording = self._share(state.world, state.recording)
         self._previous, self._episode_frames = state.previous, state.episode_frames
         self.frame_number = state.frame_number
         if self._stack is not None and stacked is not None:  # (both, as checked above)
@@ -319,6 +326,18 @@ class SpaceInvadersEnv(gym.Env):
             self._recorder.follow(recording)
         if state.draws is not None:
             self._draws.setstate(state.draws)
+
+    def _share(self, world: World, recording: EpisodeRecording | None
+               ) -> tuple[World, EpisodeRecording | None]:
+        """A world for a state and the environment both: the same one, copied by `advance`
+        before a frame is played on it (a search's node restores, steps and clones: one
+        copy, where a copy at each clone and restore made two); or, where episodes are
+        recorded (a recording changes as it is written), the world and its recording
+        copied now, together (the recording's world is the world's copy)."""
+        if self._recorder is None:
+            self._shared = True
+            return world, None
+        return copy.deepcopy((world, recording))
 
     def render(self) -> np.ndarray | None:
         """The RGB picture (rgb_array), or the picture shown in a window (human); without
