@@ -9,6 +9,7 @@ tests share), `bench` for three rounds of 60 ticks."""
 
 from __future__ import annotations
 
+import inspect
 import re
 import shlex
 import shutil
@@ -19,6 +20,7 @@ import pygame
 import pytest
 
 from invaders.app.cli import build_parser, main
+from invaders.env.space_invaders import SpaceInvadersEnv
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
@@ -137,3 +139,13 @@ def test_every_python_example_on_the_pages_runs_and_prints_what_its_comments_say
     printed = capsys.readouterr().out.splitlines()
     said = re.findall(r"print\(.*\)\s+# (.+)$", code, re.M)  # what a print says it prints
     assert printed == said
+
+
+def test_the_environments_options_table_names_every_option_it_takes():
+    """docs/env.md's table of options, against the environment's own: one it takes and the
+    page leaves out (or one the page names that it refuses) fails here."""
+    table = (ROOT / "docs" / "env.md").read_text().split("## Options", 1)[1].split("\n\n")[2]
+    named = {name for row in table.splitlines()[2:]
+             for name in re.findall(r"`(\w+)`", row.split(" | ")[0])}
+    taken = set(inspect.signature(SpaceInvadersEnv).parameters)
+    assert named == taken

@@ -65,8 +65,10 @@ def test_render_without_a_render_mode_warns_as_gymnasiums_own_environments_do():
 
 @pytest.mark.parametrize("options", [{"obs_type": "rgb"}, {"obs_type": "grayscale"},
                                      {"obs_type": "state"},
-                                     {"obs_type": "grayscale", "resize": (84, 84), "stack": 4}],
-                         ids=["rgb", "grayscale", "state", "grayscale-84x84x4"])
+                                     {"obs_type": "grayscale", "resize": (84, 84), "stack": 4},
+                                     {"obs_type": "state", "continuous": True}],
+                         ids=["rgb", "grayscale", "state", "grayscale-84x84x4", "continuous"])
+@pytest.mark.filterwarnings("ignore:.*symmetric and normalized space")  # (ALE's Box too)
 def test_gymnasiums_own_checker_passes(options):
     env = gymnasium.make(ENV_ID, **options)
     check_env(env.unwrapped, skip_render_check=True)

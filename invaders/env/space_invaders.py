@@ -1,9 +1,10 @@
 """Space Invaders (the 1978 arcade game) as a Gymnasium environment, with ALE's conventions.
 
 An agent's code written for `ALE/SpaceInvaders-v5` runs unchanged: the same six actions in
-the same order (18 with `full_action_space`), frame skip 4 and sticky actions at 0.25 by
-default, reward the score gained, `terminated` at game over, `truncated` at the frame limit,
-`info` with `lives`, `episode_frame_number` and `frame_number`. What ALE does not give:
+the same order (18 with `full_action_space`, or ALE's stick with `continuous`: stick.py),
+frame skip 4 and sticky actions at 0.25 by default, reward the score gained, `terminated`
+at game over, `truncated` at the frame limit, `info` with `lives`, `episode_frame_number`
+and `frame_number`. What ALE does not give:
 the step's events and collision counters in `info`, a state observation of the game's
 objects, and every episode written as a replay that `invaders replay` checks.
 """
@@ -37,6 +38,7 @@ from invaders.env.observations import (
     StateObserver,
 )
 from invaders.env.recording import EpisodeRecorder, EpisodeRecording
+from invaders.env.stick import check_stick, stick_meaning, stick_space
 from invaders.env.window import EnvWindow
 from invaders.game.actions import Action
 from invaders.game.config import DEFAULT_CONFIG, SCREEN_H, SCREEN_W
@@ -108,11 +110,13 @@ class SpaceInvadersEnv(gym.Env):
                  max_num_frames_per_episode: int | None = MAX_FRAMES,
                  render_mode: str | None = None,
                  record: str | Path | None = None, resize: tuple[int, int] | None = None,
-                 stack: int = 1, mode: int | None = None, difficulty: int | None = None
-                 ) -> None:
+                 stack: int = 1, mode: int | None = None, difficulty: int | None = None,
+                 continuous: bool = False, continuous_action_threshold: float = 0.5,
+                 sound_obs: bool = False) -> None:
         _check_options(obs_type, frameskip, repeat_action_probability, full_action_space,
                        render_mode, resize, stack, max_num_frames_per_episode)
         _check_cartridge(mode, difficulty)
+        check_stick(continuous, continuous_action_threshold, sound_obs)
         if isinstance(frameskip, list):  # (a range read from a config file, JSON's say)
             frameskip = (frameskip[0], frameskip[1])
         self.obs_type, self.frameskip = obs_type, frameskip
@@ -127,10 +131,15 @@ class SpaceInvadersEnv(gym.Env):
         self.render_mode = render_mode
         # (what Gymnasium's play and video recorders read: steps a second at the game's speed)
         self.metadata = {**self.metadata, "render_fps": _steps_a_second(frameskip)}
-        meanings = FULL_MEANINGS if full_action_space else MINIMAL_MEANINGS
+        # (as ALE's: a stick's action plays as one of the full set, whose meanings it gives)
+        meanings = FULL_MEANINGS if full_action_space or continuous else MINIMAL_MEANINGS
         self._meanings = meanings
         self._actions = tuple(_bits(m) for m in meanings)
-        self.action_space = spaces.Discrete(len(meanings))
+        self.continuous = bool(continuous)
+        # (kept as given, as ALE's keeps it: a stick is then compared with it as ALE's is)
+        self.continuous_action_threshold = continuous_action_threshold
+        self.action_space: spaces.Space = (stick_space() if continuous
+                                           else spaces.Discrete(len(meanings)))
         self._shrink = Shrink(resize) if resize is not None else None
         shape = resize or (SCREEN_H, SCREEN_W)
         self._stack = Stack(stack, (*shape, 3) if obs_type == "rgb" else shape) if (
@@ -202,7 +211,11 @@ class SpaceInvadersEnv(gym.Env):
         return list(self._meanings)
 
     def get_keys_to_action(self) -> dict[tuple[str, ...], int]:
-        """ALE's keys to each action, for Gymnasium's `play` (a person at the keyboard)."""
+        """ALE's keys to each action, for Gymnasium's `play` (a person at the keyboard);
+        none for a stick's actions (an AttributeError, as ALE's)."""
+        if self.continuous:
+            raise AttributeError("get_keys_to_action: no keys give a continuous action "
+                                 "(continuous=True)")
         return {tuple(key for word, key in KEYS.items() if word in meaning) or ("e",): action
                 for action, meaning in enumerate(self._meanings)}
 
@@ -214,20 +227,31 @@ class SpaceInvadersEnv(gym.Env):
             self.render()
         return self._observe(first=True), self._info([])
 
-    def step(self, action: int) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+    def step(self, action: int | np.ndarray
+             ) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         if self.world is None:
             raise RuntimeError("call reset() before step()")
-        if not (isinstance(action, (int, np.integer)) and 0 <= action < len(self._actions)):
-            # (Gymnasium's Discrete, as ALE, also takes an integer array of no dimensions)
-            if not self.action_space.contains(action):
-                raise ValueError(f"action {action!r} is not in {self.action_space}")
-            action = int(action)
+        if self.continuous or not (isinstance(action, (int, np.integer))
+                                   and 0 <= action < len(self._actions)):
+            action = self.action_index(action)
         reward, terminated, truncated, reports = self.advance(action)
         if self.render_mode == "human":
             self.render()
             if reports:  # the step's frames take their time, as in ALE's human mode
                 self._clock.tick(DEFAULT_CONFIG.tick_hz / len(reports))
         return self._observe(), reward, terminated, truncated, self._info(reports)
+
+    def action_index(self, action: Any) -> int:
+        """The action, checked, as its place in `get_action_meanings()` (what `advance`
+        plays): a stick's (continuous) as the one of ALE's full set it plays as
+        (stick.py); a ValueError for one not in the action space. (Gymnasium's Discrete,
+        as ALE, also takes an integer array of no dimensions; its Box a list of 3.)"""
+        if not self.action_space.contains(action):
+            raise ValueError(f"action {action!r} is not in {self.action_space}")
+        if self.continuous:
+            stick = np.asarray(action, np.float32)
+            return self._meanings.index(stick_meaning(stick, self.continuous_action_threshold))
+        return int(action)
 
     def begin(self, seed: int | None) -> None:
         """A new episode, its world seeded from the environment's generator (seeded first

@@ -75,6 +75,8 @@ class SpaceInvadersVectorEnv(VectorEnv):
         shape, dtype = self.single_observation_space.shape, self.single_observation_space.dtype
         assert shape is not None  # (a Box's)
         self._action_count = len(single.get_action_meanings())
+        # (a stick's actions, continuous=True: each game's read as the single game reads it)
+        self._stick_index = single.action_index if single.continuous else None
         self._games: Games | Pool
         if workers == 1:
             self._games = Games(num_envs, Rows.zeros(num_envs, shape, dtype), options)
@@ -118,12 +120,8 @@ class SpaceInvadersVectorEnv(VectorEnv):
             raise RuntimeError(f"games {np.flatnonzero(self._rows.ended).tolist()} ended: "
                                "reset them (options['reset_mask']) before the next step, "
                                "as autoreset_mode DISABLED asks")
-        actions = np.asarray(actions)
-        if (actions.shape != (self.num_envs,) or actions.dtype.kind not in "iu"
-                or actions.min() < 0 or actions.max() >= self._action_count):
-            raise ValueError(f"actions {actions!r} are not in {self.action_space}")
         reset_now = self._rows.ended.copy()  # (NEXT_STEP: these reset in the step)
-        self._games.step(actions.tolist())
+        self._games.step(self._indices(actions))
         self._cut_at_limit(reset_now)
         infos = self._infos()
         if self.autoreset_mode is AutoresetMode.SAME_STEP:
@@ -131,6 +129,18 @@ class SpaceInvadersVectorEnv(VectorEnv):
         rows = self._rows
         return (self._out(rows.obs), self._out(rows.rewards), self._out(rows.terminated),
                 self._out(rows.truncated), infos)
+
+    def _indices(self, actions: Any) -> list[int]:
+        """Each game's action, checked, as its place in the game's action meanings."""
+        if self._stick_index is not None:
+            if not self.action_space.contains(actions):
+                raise ValueError(f"actions {actions!r} are not in {self.action_space}")
+            return [self._stick_index(stick) for stick in np.asarray(actions, np.float32)]
+        actions = np.asarray(actions)
+        if (actions.shape != (self.num_envs,) or actions.dtype.kind not in "iu"
+                or actions.min() < 0 or actions.max() >= self._action_count):
+            raise ValueError(f"actions {actions!r} are not in {self.action_space}")
+        return actions.tolist()
 
     def _cut_at_limit(self, reset_now: np.ndarray) -> None:
         """`max_episode_steps`, as Gymnasium's `TimeLimit` on each game: the steps since
