@@ -175,3 +175,32 @@ def test_the_keys_to_each_action_are_ales_in_both_action_sets():
     minimal = SpaceInvadersEnv().get_keys_to_action()
     assert minimal == {ALE_KEYS[ale]: action
                        for action, ale in enumerate((0, 1, 3, 4, 11, 12))}
+
+
+def test_ales_action_sets_name_the_environments_actions_by_ales_numbers():
+    """Code written for ALE maps its actions through the action sets (by `.name`, `.value`
+    or `int()`): the minimal set is the six actions in order, by ALE's numbers (ale-py
+    0.12.1's for Space Invaders), the legal set the full environment's 18, each number
+    its action's place there; a game played on the full set by the numbers the minimal
+    set gives is the game the six play. The modes and difficulties named are those the
+    environment takes."""
+    still = {"obs_type": "state", "frameskip": 1, "repeat_action_probability": 0.0}
+    six = SpaceInvadersEnv(**still)
+    full = SpaceInvadersEnv(full_action_space=True, **still)
+    minimal, legal = six.ale.getMinimalActionSet(), full.ale.getLegalActionSet()
+    assert [action.name for action in minimal] == six.get_action_meanings()
+    assert [action.value for action in minimal] == [0, 1, 3, 4, 11, 12]
+    assert [action.name for action in legal] == full.get_action_meanings()
+    assert [int(action) for action in legal] == [action.value for action in legal] == list(
+        range(18))
+    for env in (six, full):
+        env.reset(seed=4)
+    for step in range(300):
+        action = (1, 2, 4, 0, 5, 3)[step % 6]
+        ours, theirs = six.step(action), full.step(minimal[action].value)
+        assert ours[1:4] == theirs[1:4] and six.world.state_hash() == full.world.state_hash()
+    for mode, difficulty in zip(six.ale.getAvailableModes(), six.ale.getAvailableDifficulties(),
+                                strict=True):
+        SpaceInvadersEnv(mode=mode, difficulty=difficulty).reset(seed=1)
+        with pytest.raises(ValueError, match="mode"):
+            SpaceInvadersEnv(mode=mode + 1)

@@ -2,13 +2,15 @@
 
 Gymnasium's `AtariPreprocessing` asks ALE for the screen itself (RGB or grey, into arrays
 it keeps) and for the lives; Stable-Baselines3's Atari wrappers ask for the lives; a search
-clones and restores states. Here they read the game: the same pictures the observations
-are (upright, 256x224, the cabinet's gel), and the ships left; a state is the
-environment's own (`clone_state`). Nothing here but `restoreState` changes the game.
+clones and restores states; other code maps its actions by ALE's action sets. Here they
+read the game: the same pictures the observations are (upright, 256x224, the cabinet's
+gel), and the ships left; a state is the environment's own (`clone_state`); the action
+sets are ALE's for this game. Nothing here but `restoreState` changes the game.
 """
 
 from __future__ import annotations
 
+from enum import IntEnum
 from typing import Any, Protocol
 
 import numpy as np
@@ -16,6 +18,36 @@ import numpy as np
 from invaders.env.observations import PixelObserver
 from invaders.game.config import SCREEN_H, SCREEN_W
 from invaders.game.world import Phase, World
+
+
+class AleAction(IntEnum):
+    """ALE's 18 actions by its numbers and names (`ale_py.Action`'s): the action sets the
+    view gives, each a number with a name (`.name`, `.value`, and `int()`, which older
+    ale-py's took)."""
+
+    NOOP = 0
+    FIRE = 1
+    UP = 2
+    RIGHT = 3
+    LEFT = 4
+    DOWN = 5
+    UPRIGHT = 6
+    UPLEFT = 7
+    DOWNRIGHT = 8
+    DOWNLEFT = 9
+    UPFIRE = 10
+    RIGHTFIRE = 11
+    LEFTFIRE = 12
+    DOWNFIRE = 13
+    UPRIGHTFIRE = 14
+    UPLEFTFIRE = 15
+    DOWNRIGHTFIRE = 16
+    DOWNLEFTFIRE = 17
+
+
+# ALE's minimal set for Space Invaders, in ALE's order: the environment's six actions.
+MINIMAL_SET = (AleAction.NOOP, AleAction.FIRE, AleAction.RIGHT, AleAction.LEFT,
+               AleAction.RIGHTFIRE, AleAction.LEFTFIRE)
 
 
 class Episode(Protocol):
@@ -49,6 +81,24 @@ class AleView:
     def lives(self) -> int:
         self._world()  # (refused before a reset)
         return self._env.lives
+
+    def getMinimalActionSet(self) -> list[AleAction]:
+        """The game's own actions, ALE's minimal set (what the environment's six are,
+        whatever its action space): code written for ALE maps its actions by them."""
+        return list(MINIMAL_SET)
+
+    def getLegalActionSet(self) -> list[AleAction]:
+        """All 18 (up and down do nothing in this game)."""
+        return list(AleAction)
+
+    def getAvailableModes(self) -> list[int]:
+        """The game's variations (the arcade game has one: ALE's cartridge's 16 are the
+        2600's), as the environment's `mode` takes them."""
+        return [0]
+
+    def getAvailableDifficulties(self) -> list[int]:
+        """The difficulty switch's settings (one: as `difficulty` takes them)."""
+        return [0]
 
     def getScreenDims(self) -> tuple[int, int]:
         """(height, width), as ALE's."""

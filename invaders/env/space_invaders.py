@@ -28,7 +28,7 @@ import pygame
 from gymnasium import spaces
 
 from invaders.engine.stats import STAT_FIELDS
-from invaders.env.ale_view import AleView
+from invaders.env.ale_view import MINIMAL_SET, AleAction, AleView
 from invaders.env.observations import (
     STATE_HIGH,
     STATE_SIZE,
@@ -51,11 +51,9 @@ NOOP, FIRE = 0, int(Action.FIRE)
 LEFT, RIGHT = int(Action.LEFT), int(Action.RIGHT)
 # ALE's minimal set for Space Invaders, in ALE's order, as our input bits.
 MINIMAL_ACTIONS = (NOOP, FIRE, RIGHT, LEFT, RIGHT | FIRE, LEFT | FIRE)
-MINIMAL_MEANINGS = ("NOOP", "FIRE", "RIGHT", "LEFT", "RIGHTFIRE", "LEFTFIRE")
+MINIMAL_MEANINGS = tuple(action.name for action in MINIMAL_SET)
 # ALE's full set: up and down do nothing in this game.
-FULL_MEANINGS = ("NOOP", "FIRE", "UP", "RIGHT", "LEFT", "DOWN", "UPRIGHT", "UPLEFT",
-                 "DOWNRIGHT", "DOWNLEFT", "UPFIRE", "RIGHTFIRE", "LEFTFIRE", "DOWNFIRE",
-                 "UPRIGHTFIRE", "UPLEFTFIRE", "DOWNRIGHTFIRE", "DOWNLEFTFIRE")
+FULL_MEANINGS = tuple(action.name for action in AleAction)
 # ALE's keys for human play: w a s d to move, space to fire, e for NOOP (in this order in
 # a combination, as ALE's: up or down, left or right, fire).
 KEYS = {"UP": "w", "DOWN": "s", "LEFT": "a", "RIGHT": "d", "FIRE": " "}
