@@ -2046,7 +2046,7 @@ def test_each_product_of_the_shrink_stays_on_one_blas_thread_and_the_blocks_cove
 
 def test_the_speed_tables_batch_row_judges_the_first_against_the_second(capsys):
     """Contenders timed by stand-ins (seconds for k steps, fixed): the goal judged on the
-    first two, a third reported against the second, without a goal."""
+    first two, a third reported beside them, the first's ratio to it, without a goal."""
     from invaders.env.speed import _batch_row
 
     runs = {"ours": lambda k: k / 3000, "theirs": lambda k: k / 1000,
@@ -2058,4 +2058,4 @@ def test_the_speed_tables_batch_row_judges_the_first_against_the_second(capsys):
     assert first.endswith("3.00x (3.00..3.00)   goal >= 2x: met")
     assert second.endswith("3.00x (3.00..3.00)   goal >= 4x: NOT met")
     assert other.endswith(
-        "another   1,000 steps/s (1,000..1,000)   0.50x (0.50..0.50) against theirs")
+        "another   1,000 steps/s (1,000..1,000)   ours/this 6.00x (6.00..6.00)")

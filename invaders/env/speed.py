@@ -157,7 +157,7 @@ def _batch_row(label: str, runs: dict[str, Callable[[int], float]], n: int, roun
                goal: float) -> int:
     """One line: two batch contenders' steps a second (n games a batch step), the first's
     ratio to the second's against the goal; 1 if missed. Any further contender, timed in
-    the same turns, gets a line of its own, its ratio to the second's, and no goal."""
+    the same turns, gets a line of its own, the first's ratio to it, and no goal."""
     rates = {who: [n * r for r in rate] for who, rate in _rates(runs, rounds).items()}
     ours, theirs, *others = rates
     ratio, said = _ratios(rates[ours], rates[theirs])
@@ -166,7 +166,7 @@ def _batch_row(label: str, runs: dict[str, Callable[[int], float]], n: int, roun
           f"{said}   goal >= {goal:g}x: {'met' if met else 'NOT met'}")
     for other in others:
         print(f"   {' ' * len(label)} {other} {_figure(rates[other])}   "
-              f"{_ratios(rates[other], rates[theirs])[1]} against {theirs}")
+              f"ours/this {_ratios(rates[ours], rates[other])[1]}")
     return 0 if met else 1
 
 
@@ -195,17 +195,41 @@ def _envpool_stepper(n: int) -> Callable[[int], float] | None:
     return _batch_timer(pool.step, [np.full(n, action, dtype=np.int32) for action in CYCLE])
 
 
+def _ale_vector_stepper(n: int) -> Callable[[int], float] | None:
+    """ALE's own vector environment (ale-py 0.11 on: EnvPool's C++ threads, in ALE), n
+    games on n threads, 84x84 grey stacked 4, frame skip 4, sticky actions 0.25, doing
+    what ours does: no no-op starts, no FIRE at a reset, the last frame alone (not the
+    maximum of the last two); None without it."""
+    try:
+        from ale_py.vector_env import AtariVectorEnv
+    except ImportError:
+        return None
+    envs = AtariVectorEnv("space_invaders", num_envs=n, batch_size=n, num_threads=n,
+                          img_height=84, img_width=84, grayscale=True, stack_num=4,
+                          frameskip=4, repeat_action_probability=0.25, maxpool=False,
+                          noop_max=0, use_fire_reset=False)
+    envs.reset(seed=0)
+    return _batch_timer(envs.step, [np.full(n, action) for action in CYCLE])
+
+
 def _envpool_row(rounds: int) -> int:
     """Ours, the native batch on as many cores as the machine has, against EnvPool with as
-    many games and threads, and our games in Gymnasium's async vector beside them; 1 if
-    the goal is missed (0, said, without EnvPool)."""
+    many games and threads, and beside them ALE's own vector environment (where ale-py has
+    one) and our games in Gymnasium's async vector; 1 if the goal is missed (0, said,
+    without EnvPool)."""
     n = os.cpu_count() or 1
     theirs = _envpool_stepper(n)
     if theirs is None:
         print("   EnvPool not timed: not installed (pip install envpool; ALE in C++ threads)")
         return 0
     runs = {"ours (workers)": _vector_stepper("vector_entry_point", n, workers=n),
-            "EnvPool": theirs, "Gymnasium's async vector": _vector_stepper("async", n)}
+            "EnvPool": theirs}
+    ale_vector = _ale_vector_stepper(n)
+    if ale_vector is not None:
+        runs["ALE's vector"] = ale_vector
+    else:
+        print("   ALE's vector not timed: ale-py 0.11 or newer has it (C++ threads)")
+    runs["Gymnasium's async vector"] = _vector_stepper("async", n)
     return _batch_row(f"{n} games on {n} workers, 84x84 grey x4:", runs, n, rounds,
                       ENVPOOL_GOAL)
 
