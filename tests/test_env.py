@@ -2059,3 +2059,13 @@ def test_the_speed_tables_batch_row_judges_the_first_against_the_second(capsys):
     assert second.endswith("3.00x (3.00..3.00)   goal >= 4x: NOT met")
     assert other.endswith(
         "another   1,000 steps/s (1,000..1,000)   ours/this 6.00x (6.00..6.00)")
+
+
+def test_a_ratio_just_under_its_goal_never_reads_as_on_it():
+    """Cut to two places, not rounded: 4.996 of a goal of 5 reads 4.99 (rounded, it read
+    5.00 beside NOT met); the median judged is the ratio itself."""
+    from invaders.env.speed import _ratios
+
+    median, said = _ratios([4.996, 5.2, 4.9949], [1.0, 1.0, 1.0])
+    assert median == 4.996 and said == "4.99x (4.99..5.20)"
+    assert _ratios([1.5], [1.0])[1] == "1.50x (1.50..1.50)"
