@@ -144,3 +144,17 @@ def test_ales_options_are_taken_at_ales_defaults_and_refused_in_one_line_past_th
                              continuous_action_threshold=np.float32(0.25))
     taken.reset(seed=1)
     assert taken.action_index(_stick(0.3, 0.0, 0.0)) == FULL_MEANINGS.index("RIGHT")
+
+
+def test_ales_vector_options_are_refused_naming_what_takes_their_place():
+    """Code written for ALE's own vector environment passes its options to the batch: each
+    is refused in one line that names ours (where a TypeError named none)."""
+    for option, ours in (("img_height", "resize"), ("img_width", "resize"),
+                         ("stack_num", "stack"), ("grayscale", "obs_type='grayscale'"),
+                         ("num_threads", "workers"), ("batch_size", "num_envs"),
+                         ("noop_max", "AtariPreprocessing"),
+                         ("reward_clipping", "ClipReward"), ("use_fire_reset", "no FIRE"),
+                         ("life_loss_info", "SHIP_LOST")):
+        with pytest.raises(ValueError, match=rf"^{option}: an option of ALE's vector .*{ours}"):
+            gymnasium.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point",
+                               **{option: 4})

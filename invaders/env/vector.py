@@ -61,6 +61,7 @@ class SpaceInvadersVectorEnv(VectorEnv):
             raise ValueError("render_mode 'human': the batch opens no window; make it with "
                              "'rgb_array' and wrap it in gymnasium.wrappers.vector."
                              "HumanRendering to watch its games")
+        _refuse_ales_vector_options(options)
         single = SpaceInvadersEnv(**options)  # (checks the options here, in one line)
         # (the steps a second its games show, which Gymnasium's HumanRendering reads)
         self.metadata = {**self.metadata, "render_modes": ["rgb_array"],
@@ -264,6 +265,33 @@ class SpaceInvadersVectorEnv(VectorEnv):
         # (an array of the tuples themselves: made from a list, numpy would read them as
         # rows of names)
         return np.fromiter(names, object, len(names))
+
+
+# The options of ALE's own vector environment (ale_py.vector_env.AtariVectorEnv) that ours
+# takes under other names, or leaves to Gymnasium's wrappers: code written for it is told.
+PREPROCESSING = ("Gymnasium's AtariPreprocessing, on single games (the batch does not "
+                 "preprocess)")
+ALES_VECTOR_OPTIONS = {
+    "img_height": "resize=(height, width), with obs_type='grayscale'",
+    "img_width": "resize=(height, width), with obs_type='grayscale'",
+    "grayscale": "obs_type='grayscale'", "stack_num": "stack",
+    "num_threads": "workers (worker processes)", "batch_size": "num_envs (every game a step)",
+    "thread_affinity_offset": "workers (worker processes)",
+    **dict.fromkeys(("maxpool", "noop_max", "episodic_life"), PREPROCESSING),
+    "reward_clipping": "gymnasium.wrappers.vector.ClipReward(envs, -1, 1) (the rewards are "
+                       "0 or more)",
+    "use_fire_reset": "nothing (the game starts at a reset, with no FIRE)",
+    "life_loss_info": "info['events'] (SHIP_LOST) or info['lives']",
+}
+
+
+def _refuse_ales_vector_options(options: dict[str, Any]) -> None:
+    """One ValueError for the first option of ALE's vector environment given, naming what
+    takes its place here."""
+    for name in options:
+        if name in ALES_VECTOR_OPTIONS:
+            raise ValueError(f"{name}: an option of ALE's vector environment; here, "
+                             f"{ALES_VECTOR_OPTIONS[name]}")
 
 
 def _reset_mask(options: dict[str, Any] | None, games: int) -> np.ndarray | None:
