@@ -246,10 +246,12 @@ class SpaceInvadersEnv(gym.Env):
         as ALE, also takes an integer array of no dimensions; its Box a list of 3.)"""
         if not self.action_space.contains(action):
             raise ValueError(f"action {action!r} is not in {self.action_space}")
-        if self.continuous:
-            stick = np.asarray(action, np.float32)
-            return self._meanings.index(stick_meaning(stick, self.continuous_action_threshold))
-        return int(action)
+        return self.stick_index(np.asarray(action, np.float32)) if self.continuous else int(
+            action)
+
+    def stick_index(self, stick: np.ndarray) -> int:
+        """A stick's action, already checked (float32), as its place in the full set."""
+        return self._meanings.index(stick_meaning(stick, self.continuous_action_threshold))
 
     def begin(self, seed: int | None) -> None:
         """A new episode, its world seeded from the environment's generator (seeded first

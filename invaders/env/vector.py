@@ -76,8 +76,9 @@ class SpaceInvadersVectorEnv(VectorEnv):
         shape, dtype = self.single_observation_space.shape, self.single_observation_space.dtype
         assert shape is not None  # (a Box's)
         self._action_count = len(single.get_action_meanings())
-        # (a stick's actions, continuous=True: each game's read as the single game reads it)
-        self._stick_index = single.action_index if single.continuous else None
+        # (a stick's actions, continuous=True: each game's read as the single game reads it,
+        # once the batch's are checked together)
+        self._stick_index = single.stick_index if single.continuous else None
         self._games: Games | Pool
         if workers == 1:
             self._games = Games(num_envs, Rows.zeros(num_envs, shape, dtype), options)
