@@ -74,15 +74,21 @@ def test_the_wheel_holds_the_package_its_command_and_its_licence(release):
         metadata.splitlines())
 
 
-def test_the_wheel_installed_alone_plays_a_replay_to_its_checkpoints(release, tmp_path):
-    source, _, wheel = release
-    target = tmp_path / "site"
+def _installed(wheel: Path, folder: Path) -> dict[str, str]:
+    """The wheel installed alone in `folder`, and the environment that runs it from there
+    (first on the path; pygame and numpy are this environment's)."""
+    target = folder / "site"
     subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--no-index",
                     "--target", str(target), str(wheel)], check=True, capture_output=True)
-    # Run from elsewhere, the installed package first on the path (pygame and numpy are
-    # this environment's).
     env = {**os.environ, "PYTHONPATH": str(target)}
     env.pop("INVADERS_COMPILE", None)
+    return env
+
+
+def test_the_wheel_installed_alone_plays_a_replay_to_its_checkpoints(release, tmp_path):
+    source, _, wheel = release
+    env = _installed(wheel, tmp_path)
+    target = Path(env["PYTHONPATH"])
     replay = source / "replays" / "saucer-300.json"
     done = subprocess.run([sys.executable, "-c", "import invaders; print(invaders.__file__)"],
                           env=env, capture_output=True, text=True, cwd=tmp_path)
@@ -91,3 +97,22 @@ def test_the_wheel_installed_alone_plays_a_replay_to_its_checkpoints(release, tm
                           env=env, capture_output=True, text=True, cwd=tmp_path)
     assert done.returncode == 0, done.stdout + done.stderr
     assert done.stdout.startswith(f"ok {replay}: ")
+
+
+def test_a_type_checker_reads_the_installed_packages_annotations(release, tmp_path):
+    """The package is marked typed (`py.typed`, PEP 561): mypy, checking a user's code
+    against the wheel installed, reads its annotations, and finds a wrong call by them.
+    Unmarked, it stops at the import (no library stubs or py.typed marker)."""
+    _, _, wheel = release
+    env = _installed(wheel, tmp_path)
+    code = ("from invaders.engine.collide import groupcollide\n"
+            "hits = groupcollide([], [], False, False)\n"
+            "reveal_type(hits)\n"
+            "groupcollide(1, [], False, False)\n")
+    done = subprocess.run([sys.executable, "-m", "mypy", "--no-incremental", "-c", code],
+                          env=env, capture_output=True, text=True, cwd=tmp_path)
+    said = done.stdout + done.stderr
+    assert "py.typed" not in said, said
+    assert 'Revealed type is "dict[Any, list[Any]]"' in said, said
+    assert 'Argument 1 to "groupcollide" has incompatible type "int"' in said, said
+    assert "Found 1 error" in said, said
