@@ -320,9 +320,9 @@ class Shrink:
         # Where there are pads: the outputs as bytes, pads and all, and the places of
         # those kept, to take them by (a copy of the floats into the output through
         # strides that skip the pads took 51 against 28 us, 8 games, a script).
-        self._bytes = np.zeros((games, height, wide) if padded > per_group else 0, np.uint8)
-        self._kept = None if padded == per_group else np.array(
-            [group * padded + i for group in range(GROUPS) for i in range(per_group)])
+        self._unpadding = None if padded == per_group else (
+            np.zeros((games, height, wide), np.uint8),
+            np.array([group * padded + i for group in range(GROUPS) for i in range(per_group)]))
         self.column_products = self._column_products()
         self.row_products = [(weights, self._narrow[:, span], self._small[:, outputs])
                              for outputs, span, weights in self.rows.blocks]
@@ -368,11 +368,12 @@ class Shrink:
             np.matmul(weights, inputs, out=outputs)
         np.add(self._small, self.total // 2, out=self._small)
         np.divide(self._small, self.total, out=self._small)
-        if self._kept is None:
+        if self._unpadding is None:
             np.copyto(self.out, self._small.reshape(self.out.shape), casting="unsafe")
         else:
-            np.copyto(self._bytes, self._small.reshape(self._bytes.shape), casting="unsafe")
-            np.take(self._bytes, self._kept, axis=2, mode="clip", out=self.out)
+            padded, kept = self._unpadding
+            np.copyto(padded, self._small.reshape(padded.shape), casting="unsafe")
+            np.take(padded, kept, axis=2, mode="clip", out=self.out)
         return self.out  # (the copy dropped the fraction)
 
 
