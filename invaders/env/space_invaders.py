@@ -49,8 +49,6 @@ GAME_OVER = Phase.GAME_OVER
 
 NOOP, FIRE = 0, int(Action.FIRE)
 LEFT, RIGHT = int(Action.LEFT), int(Action.RIGHT)
-# ALE's minimal set for Space Invaders, in ALE's order, as our input bits.
-MINIMAL_ACTIONS = (NOOP, FIRE, RIGHT, LEFT, RIGHT | FIRE, LEFT | FIRE)
 MINIMAL_MEANINGS = tuple(action.name for action in MINIMAL_SET)
 # ALE's full set: up and down do nothing in this game.
 FULL_MEANINGS = tuple(action.name for action in AleAction)
@@ -65,6 +63,10 @@ MAX_FRAMES = 108_000  # ALE v5's frames an episode (30 minutes at 60 Hz): then t
 def _bits(meaning: str) -> int:
     return (FIRE if "FIRE" in meaning else 0) | (RIGHT if "RIGHT" in meaning else 0) | (
         LEFT if "LEFT" in meaning else 0)
+
+
+# ALE's minimal set for Space Invaders, in ALE's order, as our input bits.
+MINIMAL_ACTIONS = tuple(map(_bits, MINIMAL_MEANINGS))
 
 
 def step_events(reports: list[TickReport]) -> list[Event]:
