@@ -371,9 +371,9 @@ class Shrink:
         if self._unpadding is None:
             np.copyto(self.out, self._small.reshape(self.out.shape), casting="unsafe")
         else:
-            padded, kept = self._unpadding
-            np.copyto(padded, self._small.reshape(padded.shape), casting="unsafe")
-            np.take(padded, kept, axis=2, mode="clip", out=self.out)
+            with_pads, kept = self._unpadding
+            np.copyto(with_pads, self._small.reshape(with_pads.shape), casting="unsafe")
+            np.take(with_pads, kept, axis=2, mode="clip", out=self.out)
         return self.out  # (the copy dropped the fraction)
 
 
