@@ -207,12 +207,14 @@ def test_a_shot_that_kills_is_spent_on_the_first_alien_it_meets():
     alien it meets, so the second alien it overlaps lives (the fast path too)."""
     for extra in (0, 40):  # 40 far-off aliens more: enough pairs for the C tests
         for function in (pygame.sprite.groupcollide, collide.groupcollide):
-            aliens = pygame.sprite.Group(Thing(0, 0, 20, 10), Thing(5, 0, 20, 10),
-                                         *(Thing(500 + 30 * i, 500, 20, 10)
-                                           for i in range(extra)))
-            shots = pygame.sprite.Group(Thing(8, 5, 2, 8), Thing(1000, 0, 2, 8))
+            first, second, shot, far_shot = (Thing(0, 0, 20, 10), Thing(5, 0, 20, 10),
+                                             Thing(8, 5, 2, 8), Thing(1000, 0, 2, 8))
+            aliens = pygame.sprite.Group(first, second, *(Thing(500 + 30 * i, 500, 20, 10)
+                                                          for i in range(extra)))
+            shots = pygame.sprite.Group(shot, far_shot)
             found = function(aliens, shots, True, True)
-            assert len(found) == 1 and len(aliens) == 1 + extra and len(shots) == 1
+            assert found == {first: [shot]}
+            assert second in aliens and len(aliens) == 1 + extra and shots.sprites() == [far_shot]
 
 
 @pytest.mark.parametrize("collided", PREDICATES[:4])
