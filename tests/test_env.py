@@ -2131,3 +2131,20 @@ def test_a_ratio_just_under_its_goal_never_reads_as_on_it():
     median, said = _ratios([4.996, 5.2, 4.9949], [1.0, 1.0, 1.0])
     assert median == 4.996 and said == "4.99x (4.99..5.20)"
     assert _ratios([1.5], [1.0])[1] == "1.50x (1.50..1.50)"
+
+
+@pytest.mark.parametrize("per_group", [3, 5, 6, 7])
+def test_the_shrinks_pads_are_dropped_and_every_other_byte_kept_as_it_is(per_group):
+    """What the shrink's last copy stands on where there are pads: SDL's blit from RGBX
+    pixels to RGB ones keeps each of the first three bytes as it is (84 wide: three
+    outputs and a pad a group), numpy's take the others. Random bytes, pads and all, come
+    out as the kept places of each group."""
+    from invaders.env.observations import GROUPS, _pads_dropped
+
+    padded = 1 << (per_group - 1).bit_length()
+    rng = np.random.default_rng(per_group)
+    with_pads = rng.integers(0, 256, (3, 5, GROUPS * padded), dtype=np.uint8)
+    out = np.zeros((3, 5, GROUPS * per_group), np.uint8)
+    _pads_dropped(with_pads, out, per_group, padded)()
+    kept = with_pads.reshape(3, 5, GROUPS, padded)[..., :per_group].reshape(out.shape)
+    assert np.array_equal(out, kept)
