@@ -644,10 +644,10 @@ def test_recording_to_a_file_keeps_no_more_memory_late_than_early(tmp_path, monk
 
     from invaders.app.recording import Recorder
     from invaders.engine import predicates
-
-    monkeypatch.setattr(predicates, "_solids", predicates.KeptSolids())
     from invaders.game.world import World
     from invaders.lab.autopilot import Autopilot
+
+    monkeypatch.setattr(predicates, "_solids", predicates.KeptSolids())
 
     world, pilot = World(seed=5), Autopilot(5)
     recorder = Recorder(world, tmp_path / "game.json", save_every=600)

@@ -340,9 +340,10 @@ class Shrink:
         self.out = np.zeros((games, height, width), np.uint8)
         # Where there are pads: the outputs as bytes, pads and all, and the copy of them
         # into `out` that leaves the pads out.
-        with_pads = np.zeros((games, height, wide), np.uint8)
-        self._unpadding = None if padded == per_group else (
-            with_pads, _pads_dropped(with_pads, self.out, per_group, padded))
+        self._unpadding: tuple[np.ndarray, Callable[[], object]] | None = None
+        if padded != per_group:
+            with_pads = np.zeros((games, height, wide), np.uint8)
+            self._unpadding = (with_pads, _pads_dropped(with_pads, self.out, per_group, padded))
         self.column_products = self._column_products()
         self.row_products = [(weights, self._narrow[:, span], self._small[:, outputs])
                              for outputs, span, weights in self.rows.blocks]
