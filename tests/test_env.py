@@ -1955,7 +1955,7 @@ def _tinted(canvas: np.ndarray) -> np.ndarray:
 def test_the_shrink_is_the_exact_area_average_of_the_picture_drawn(size):
     """Pixel for pixel against the definition, the canvas tinted by the gel, whether the
     table makes the columns' outputs (widths a multiple of 28) or products do."""
-    from invaders.env.observations import Shrink
+    from invaders.env.shrink import Shrink
 
     shrink = Shrink(size)
     assert (shrink.cols is None) == (size[1] % 28 == 0)
@@ -1966,7 +1966,7 @@ def test_the_shrink_is_the_exact_area_average_of_the_picture_drawn(size):
 
 @pytest.mark.parametrize("size", SIZES)
 def test_games_shrunk_together_are_each_the_exact_area_average_of_its_picture(size):
-    from invaders.env.observations import Shrink
+    from invaders.env.shrink import Shrink
 
     canvases = [np.zeros((256, 224), np.uint8), *_canvases(sum(size))]
     shrink = Shrink(size, games=len(canvases))  # (products of several games, and of one)
@@ -2007,7 +2007,7 @@ def test_any_size_of_any_games_shrinks_to_the_exact_area_average(height, width, 
                                                                  seed, lit):
     """Every size the option takes, the widths whose columns the table makes (each number
     of outputs a group of 8 pixels, padded to 1, 2, 4 or 8) among them."""
-    from invaders.env.observations import Shrink
+    from invaders.env.shrink import Shrink
 
     rng = np.random.default_rng(seed)
     canvases = [255 * (rng.random((256, 224)) < lit).astype(np.uint8) for _ in range(games)]
@@ -2026,7 +2026,7 @@ def test_the_shrinks_table_entries_are_a_power_of_two_floats_and_its_pads_zeros(
     bytes as one number, any other size by a call): every entry of its table is one of
     those sizes, its outputs first and then zeros, which the output leaves out (the
     tests above hold the outputs exact)."""
-    from invaders.env.observations import Shrink
+    from invaders.env.shrink import Shrink
 
     shrink = Shrink(size)
     assert shrink.table.dtype.itemsize in (4, 8, 16, 32)
@@ -2044,7 +2044,7 @@ def test_the_shrink_allocates_no_array_a_step(size, games):
     output of one game (7,056 bytes), so neither its lookup nor a product made a copy."""
     import tracemalloc
 
-    from invaders.env.observations import Shrink
+    from invaders.env.shrink import Shrink
 
     shrink = Shrink(size, games)
     canvas = _canvases(1)[1]
@@ -2064,7 +2064,7 @@ def test_the_shrink_allocates_no_array_a_step(size, games):
 def test_each_8_pixels_are_read_as_a_number_of_their_own_for_which_are_lit():
     """The 256 sets of 8 pixels lit give 256 numbers from 0 to 255, one a set, wherever
     they stand in a row (the table's entries are found by them)."""
-    from invaders.env.observations import read_groups
+    from invaders.env.shrink import read_groups
 
     sets = np.unpackbits(np.arange(256, dtype=np.uint8)[:, None], axis=1)  # (256, 8)
     canvas = 255 * np.tile(sets, (1, 28))
@@ -2082,7 +2082,7 @@ def test_each_product_of_the_shrink_stays_on_one_blas_thread_and_the_blocks_cove
     each game), each reads and writes the shrink's own arrays (no copy), and each axis's
     blocks, put back together, are a period's whole weights (each output once, none of its
     weights left out), the periods covering the picture."""
-    from invaders.env.observations import BLOCK_WORK, Shrink, area_weights
+    from invaders.env.shrink import BLOCK_WORK, Shrink, area_weights
 
     shrink = Shrink(size, games)
     for weights, inputs, outputs in shrink.row_products:
@@ -2139,7 +2139,7 @@ def test_the_shrinks_pads_are_dropped_and_every_other_byte_kept_as_it_is(per_gro
     pixels to RGB ones keeps each of the first three bytes as it is (84 wide: three
     outputs and a pad a group), numpy's take the others. Random bytes, pads and all, come
     out as the kept places of each group."""
-    from invaders.env.observations import GROUPS, _pads_dropped
+    from invaders.env.shrink import GROUPS, _pads_dropped
 
     padded = 1 << (per_group - 1).bit_length()
     rng = np.random.default_rng(per_group)

@@ -13,7 +13,8 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from invaders.engine.stats import STAT_FIELDS
-from invaders.env.observations import PixelObserver, Shrink
+from invaders.env.observations import PixelObserver
+from invaders.env.shrink import Shrink
 from invaders.env.space_invaders import SpaceInvadersEnv, step_counters, step_events
 from invaders.game.events import Event
 from invaders.game.world import TickReport

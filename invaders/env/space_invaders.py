@@ -33,11 +33,11 @@ from invaders.env.observations import (
     STATE_HIGH,
     STATE_SIZE,
     PixelObserver,
-    Shrink,
     Stack,
     StateObserver,
 )
 from invaders.env.recording import EpisodeRecorder, EpisodeRecording
+from invaders.env.shrink import Shrink
 from invaders.env.stick import check_stick, stick_meaning, stick_space
 from invaders.env.window import EnvWindow
 from invaders.game.actions import Action
