@@ -248,8 +248,9 @@ class SpaceInvadersEnv(gym.Env):
         as ALE, also takes an integer array of no dimensions; its Box a list of 3.)"""
         if not self.action_space.contains(action):
             raise ValueError(f"action {action!r} is not in {self.action_space}")
-        return self.stick_index(np.asarray(action, np.float32)) if self.continuous else int(
-            action)
+        if self.continuous:
+            return self.stick_index(np.asarray(action, np.float32))
+        return int(action)
 
     def stick_index(self, stick: np.ndarray) -> int:
         """A stick's action, already checked (float32), as its place in the full set."""
