@@ -69,21 +69,23 @@ class Axis(NamedTuple):
 
 
 # A grey canvas read 8 pixels at a time: its bytes are 0 or 255, so 8 of them, one 64-bit
-# number, masked to a bit a byte and multiplied by GATHER, have their bits side by side in
-# the top byte (the product's other terms land in bits of their own, below it or past the
-# 64th), a number from 0 to 255 naming which of the 8 are lit.
+# number, are 255 times the number with a 1 in the lowest bit of each lit byte; that one
+# times 0x8040201008040201 has the 8 bits side by side in its top byte (the product's
+# other terms land in bits of their own, below it or past the 64th), a number from 0 to
+# 255 naming which of the 8 are lit. 255 is odd, so it has an inverse modulo 2**64, and
+# numpy's uint64 products are taken modulo 2**64: the canvas's number times GATHER (that
+# multiplier over 255) is the same product, in one pass, where a mask to a bit a byte took
+# one more (8 games' reads 28 against 37 us, a script).
 GROUP = 8
 GROUPS = SCREEN_W // GROUP
-LOW_BITS = np.uint64(0x0101010101010101)
-GATHER = np.uint64(0x8040201008040201)
+GATHER = np.uint64(0x8040201008040201 * pow(255, -1, 2**64) % 2**64)
 TOP_BYTE = np.uint64(56)
 
 
 def read_groups(canvas: np.ndarray, out: np.ndarray) -> np.ndarray:
-    """Each 8 pixels of a grey canvas's rows (rows, 8 n: contiguous) as the number
-    (0..255) naming the lit ones, in `out` (rows, n) uint64."""
-    np.bitwise_and(canvas.view(np.uint64), LOW_BITS, out=out)
-    np.multiply(out, GATHER, out=out)
+    """Each 8 pixels of a grey canvas's rows (rows, 8 n: contiguous; each byte 0 or 255)
+    as the number (0..255) naming the lit ones, in `out` (rows, n) uint64."""
+    np.multiply(canvas.view(np.uint64), GATHER, out=out)
     return np.right_shift(out, TOP_BYTE, out=out)
 
 
