@@ -139,10 +139,11 @@ class SpaceInvadersVectorEnv(VectorEnv):
                 raise ValueError(f"actions {actions!r} are not in {self.action_space}")
             return [self._stick_index(stick) for stick in np.asarray(actions, np.float32)]
         actions = np.asarray(actions)
+        indices = actions.tolist()
         if (actions.shape != (self.num_envs,) or actions.dtype.kind not in "iu"
-                or actions.min() < 0 or actions.max() >= self._action_count):
+                or min(indices) < 0 or max(indices) >= self._action_count):
             raise ValueError(f"actions {actions!r} are not in {self.action_space}")
-        return actions.tolist()
+        return indices
 
     def _cut_at_limit(self, reset_now: np.ndarray) -> None:
         """`max_episode_steps`, as Gymnasium's `TimeLimit` on each game: the steps since
