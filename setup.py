@@ -1,9 +1,14 @@
-"""The package (pyproject.toml says the rest). With INVADERS_COMPILE=1 the core is compiled
-by mypyc, the same source as C extensions: see docs/compiled.md."""
+"""The package (pyproject.toml says the rest), its core compiled by mypyc (the same source
+as C extensions) where build_support/core_build.py says so: by default wherever the machine
+can, else left Python. See docs/compiled.md."""
 
-import os
+import sys
+from pathlib import Path
 
 from setuptools import setup
+
+sys.path.insert(0, str(Path(__file__).resolve().parent / "build_support"))
+from core_build import FallbackBuild, chosen, compiling, said_python
 
 # The modules a tick runs through (the engine's and the game's), and the picture's drawing
 # (the environment's pictures and the window's), compiled together.
@@ -16,12 +21,22 @@ CORE = [f"invaders/engine/{name}.py" for name in (
 
 
 def compiled_core() -> list:
-    """The core's C extensions when INVADERS_COMPILE=1 asks for them; else none."""
-    if os.environ.get("INVADERS_COMPILE") != "1":
+    """The core's C extensions where this build compiles it; else none. Asked for
+    (INVADERS_COMPILE=1), a failure fails the build; otherwise it leaves the core Python
+    (mypy missing from the build, or a version of Python it cannot compile for)."""
+    if not compiling():
         return []
-    from mypyc.build import mypycify
+    try:
+        from mypyc.build import mypycify
 
-    return mypycify(CORE, opt_level="3")
+        return mypycify(CORE, opt_level="3")
+    except (Exception, SystemExit) as failure:  # (mypyc says its own failures by exiting)
+        if chosen() == "1":
+            raise
+        said_python(f"mypyc could not compile it ({failure})")
+        return []
 
 
-setup(ext_modules=compiled_core())
+extensions = compiled_core()
+setup(ext_modules=extensions,
+      cmdclass={} if chosen() == "1" or not extensions else {"build_ext": FallbackBuild})

@@ -33,12 +33,13 @@ def _files(folder: Path) -> set[str]:
 
 @pytest.fixture(scope="module")
 def release(tmp_path_factory) -> tuple[Path, Path, Path]:
-    """The copied sources, and the archive and the wheel built from them (the plain build:
-    the compiled one is CI's second run's)."""
+    """The copied sources, and the archive and the wheel built from them, the core left
+    Python (INVADERS_COMPILE=0: the compiled core is CI's second run's; the choice between
+    them, tests/test_core_build.py)."""
     work = tmp_path_factory.mktemp("release")
     source = work / "source"
     shutil.copytree(ROOT, source, ignore=NOT_SOURCES)
-    env = {k: v for k, v in os.environ.items() if k != "INVADERS_COMPILE"}
+    env = {**os.environ, "INVADERS_COMPILE": "0"}
     done = subprocess.run([sys.executable, "-m", "build", "--no-isolation", "--outdir",
                            str(work / "dist"), str(source)],
                           env=env, capture_output=True, text=True, cwd=work)
