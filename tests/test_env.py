@@ -1245,7 +1245,7 @@ def test_without_gymnasium_the_package_says_which_extra_brings_it():
                           check=False)
     assert done.returncode == 1
     assert done.stderr.splitlines()[-1] == (
-        "ModuleNotFoundError: invaders.env needs Gymnasium, the rl extra: pip install -e "
+        "ModuleNotFoundError: invaders.env needs Gymnasium, the rl extra: pip install "
         "'.[rl]'")
 
 

@@ -485,7 +485,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
         from invaders.lab.ale import available
 
         if not available():
-            raise UsageError("--ale needs ale-py: pip install -e '.[compare]'")
+            raise UsageError("--ale needs ale-py: pip install '.[compare]'")
     try:
         code = bench(ticks=ticks, seed=seed, rounds=args.rounds, ale=args.ale,
                      big=args.big, largest=args.largest)
@@ -520,7 +520,7 @@ def _arcade_table(rounds: int) -> int:
     try:
         import arcade  # noqa: F401
     except ImportError:
-        raise UsageError("--arcade needs arcade: pip install -e '.[compare]'") from None
+        raise UsageError("--arcade needs arcade: pip install '.[compare]'") from None
     from invaders.lab.bench_arcade import arcade_table
 
     return arcade_table(rounds)
@@ -534,7 +534,7 @@ def _env_table(rounds: int, section: bool = False) -> int:
         if section:
             print("6. the Gymnasium environment: skipped (install the rl extra: gymnasium)")
             return 0
-        raise UsageError("--env needs gymnasium: pip install -e '.[rl]'") from None
+        raise UsageError("--env needs gymnasium: pip install '.[rl]'") from None
     return env_table(rounds, section)
 
 

@@ -8,7 +8,7 @@ import warnings
 try:
     import gymnasium
 except ModuleNotFoundError as missing:  # (every module here reads it: said once, here)
-    raise ModuleNotFoundError("invaders.env needs Gymnasium, the rl extra: pip install -e "
+    raise ModuleNotFoundError("invaders.env needs Gymnasium, the rl extra: pip install "
                               "'.[rl]'", name=missing.name) from missing
 
 from invaders.engine.compiled import shadowed_note
