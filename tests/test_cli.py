@@ -141,7 +141,8 @@ def test_bench_against_outside_a_checkout_or_a_name_of_no_commit_is_one_line(
     assert code == 2
     assert err.splitlines() == [
         f"invaders: error: --against compares with the project's git history, and {tree} "
-        "is not in a git checkout (a release archive has none)"]
+        "is not in a git checkout (an installed package and a release archive have none: run "
+        "it from the editable install of a clone)"]
     subprocess.run(["git", "init", "-q", str(tree)], check=True)
     code, _, err = _run(capsys, *words, "no-such-revision")
     assert code == 2

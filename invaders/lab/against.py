@@ -70,7 +70,8 @@ def worktree(rev: str) -> Iterator[tuple[Path, str]]:
     here = Path(invaders.__file__).resolve().parents[1]
     if _answer(here, "rev-parse", "--is-inside-work-tree") is None:
         raise AgainstError(f"--against compares with the project's git history, and {here} "
-                           "is not in a git checkout (a release archive has none)")
+                           "is not in a git checkout (an installed package and a release "
+                           "archive have none: run it from the editable install of a clone)")
     named = _answer(here, "rev-parse", "--verify", "--quiet", "--short", f"{rev}^{{commit}}")
     if named is None:
         raise AgainstError(f"--against: {rev!r} names no commit of the repository at {here}")
