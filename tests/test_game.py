@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import io
 import itertools
 import pickle
 import random
 import types
 from enum import Enum
+from typing import ClassVar
 
 import pytest
 
@@ -513,6 +515,41 @@ def test_a_pickled_world_plays_on_as_it_would_with_the_games_pictures_its_own():
     assert loaded.state_hash() == world.state_hash() and world.score > 0
     loaded.bunkers[0].mask.clear()
     assert world.bunkers[0].mask.count() > 0
+
+
+class _NotingPickler(pickle.Pickler):
+    """pickle's, noting each of the package's objects it pickles, by class, and the type of
+    the state its reduction hands pickle (none where the reduction is a call alone)."""
+
+    seen: ClassVar[dict[str, set[str]]] = {}
+
+    def reducer_override(self, obj):
+        if type(obj).__module__.startswith("invaders.") and not isinstance(obj, (type, Enum)):
+            reduced = obj.__reduce_ex__(pickle.HIGHEST_PROTOCOL)
+            state = reduced[2] if isinstance(reduced, tuple) and len(reduced) > 2 else None
+            _NotingPickler.seen.setdefault(type(obj).__name__, set()).add(
+                type(state).__name__)
+        return NotImplemented
+
+
+def test_a_pickled_world_holds_each_objects_fields_by_name_as_both_builds_read_them(
+        monkeypatch):
+    """A world pickled by the compiled build loads in the interpreted one, and the other
+    way about (workers on machines that built the package differently, states kept across
+    a reinstall). Each build reads back a call, or fields by name (a dict), whichever build
+    wrote them; by default a class with slots pickles them otherwise (interpreted, a pair;
+    a dataclass's, a list) and a compiled one as a dict, and neither reads the other's. So
+    every object of the package in a pickled world (its own pickler's too) is a call or a
+    dict: bodies (`Body.__reduce__`) and the detector's plan among them."""
+    _NotingPickler.seen = {}
+    monkeypatch.setattr(pickle, "Pickler", _NotingPickler)  # (the world's own one too)
+    world, pilot = World(seed=2, players=2), Autopilot(2)
+    for _ in range(900):
+        world.step(pilot.actions(world))
+    pickle.Pickler(io.BytesIO(), pickle.HIGHEST_PROTOCOL).dump(world)
+    seen = _NotingPickler.seen
+    assert {"World", "Alien", "Cannon", "Bunker", "Edge", "Plan", "BodyStore"} <= set(seen)
+    assert {name for name, states in seen.items() if states - {"NoneType", "dict"}} == set()
 
 
 def test_a_worlds_deep_copy_never_goes_through_pickle(monkeypatch):

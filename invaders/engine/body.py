@@ -8,6 +8,7 @@ from typing import Any
 import pygame
 
 from invaders.engine.compiled import mypyc_attr
+from invaders.engine.pickling import with_fields
 
 FAR = 1 << 60
 NOWHERE = (FAR, FAR, -FAR, -FAR)  # a fence no box is inside: every move is reported
@@ -53,6 +54,16 @@ class Body:
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(id={self.id}, x={self.x}, y={self.y})"
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        """Pickled as its class and its fields by name, whether the class is compiled or
+        not. By default each build pickles a body its own way (compiled, its fields as a
+        dict; interpreted, its slots as a pair), and neither reads the other's back; a world
+        pickled by one build must load in the other (workers on machines that built the
+        package differently, states kept on disk across a reinstall)."""
+        values = {name: getattr(self, name) for name in fields_of(type(self))}
+        values.update(getattr(self, "__dict__", {}))  # (a Python subclass's, if it has one)
+        return with_fields, (type(self), values)
 
     def __deepcopy__(self, memo: dict[int, Any]) -> Body:
         """A copy with this body's picture: pictures are shared between bodies and never

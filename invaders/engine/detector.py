@@ -142,6 +142,12 @@ class Plan:
     # it stands (most ticks with candidates at game scale are such).
     parted: dict[int, CollisionStats]
 
+    def __reduce__(self) -> tuple[type[Plan], tuple[Any, ...]]:
+        """Pickled as the call that makes it: by default each build pickles its slots its
+        own way, and neither reads the other's back (see `Body.__reduce__`)."""
+        return Plan, (self.membership, self.groups, self.zoned, self.bodies, self.allowed,
+                      self.quiet, self.parted)
+
 
 @mypyc_attr(allow_interpreted_subclasses=True)  # (copied: docs/compiled.md)
 class Detector:

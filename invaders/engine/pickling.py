@@ -14,12 +14,13 @@ import copyreg
 import io
 import pickle
 from collections.abc import Callable
-from typing import Any
+from typing import Any, TypeVar
 
 import pygame
 
 from invaders.engine.compiled import fields
 
+T = TypeVar("T")
 Recipe = tuple[Callable[..., pygame.mask.Mask], tuple[Any, ...]]
 _recipes: dict[pygame.mask.Mask, Recipe] = {}  # (masks hash by identity)
 
@@ -70,8 +71,14 @@ def reduce_with_masks(obj: object) -> tuple[Callable[[bytes], Any], tuple[bytes]
 
 
 def _with_fields(pickled: bytes) -> Any:
-    """The object `reduce_with_masks` pickled: a new one of its class, its fields set."""
+    """The object `reduce_with_masks` pickled."""
     cls, values = pickle.loads(pickled)
+    return with_fields(cls, values)
+
+
+def with_fields(cls: type[T], values: dict[str, Any]) -> T:
+    """A new object of `cls`, its `__init__` not called, its fields set by name: how an
+    object pickled as its fields by name is loaded, by either build (docs/compiled.md)."""
     obj = cls.__new__(cls)
     for name, value in values.items():
         setattr(obj, name, value)
